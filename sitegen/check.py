@@ -1,0 +1,84 @@
+"""``sitegen check``: verify a built site offline, as a browser would follow it.
+
+Every internal ``href``/``src``/``poster`` must name a file in the site, every ``#anchor`` an
+id on the target page; scripts, stylesheets, images and media must be served by the site
+itself (no CDN), since course sites are read on campus networks and from ``file://``.
+"""
+
+from __future__ import annotations
+
+import posixpath
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+_ASSET_TAGS = {("script", "src"), ("link", "href"), ("img", "src"), ("video", "src"),
+               ("video", "poster"), ("source", "src"), ("audio", "src"), ("iframe", "src")}
+
+
+class _Collector(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.ids: set[str] = set()
+        self.refs: list[tuple[str, str, str, int]] = []  # (tag, attr, url, line)
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        line = self.getpos()[0]
+        for name, value in attrs:
+            if value is None:
+                continue
+            if name in ("id", "name") and (name == "id" or tag == "a"):
+                self.ids.add(value)
+            if name in ("href", "src", "poster"):
+                if tag == "base":
+                    continue
+                self.refs.append((tag, name, value, line))
+
+
+def _parse(path: Path) -> _Collector:
+    c = _Collector()
+    c.feed(path.read_text(encoding="utf-8", errors="replace"))
+    c.close()
+    return c
+
+
+def check_site(site_dir: Path) -> list[str]:
+    """Return one line per problem, ``file:line: message``; empty when the site is sound."""
+    site_dir = site_dir.resolve()
+    if not site_dir.is_dir():
+        return [f"{site_dir}: not a folder (build the site first)"]
+    pages = sorted(p for p in site_dir.rglob("*.html") if p.is_file())
+    parsed = {p.relative_to(site_dir).as_posix(): _parse(p) for p in pages}
+    problems: list[str] = []
+    for rel, c in parsed.items():
+        if rel == "404.html":
+            continue  # served at any depth by GitHub Pages; its links use <base href>
+        for tag, attr, url, line in c.refs:
+            problem = _check_ref(site_dir, parsed, rel, c, tag, attr, url)
+            if problem:
+                problems.append(f"{rel}:{line}: {problem}")
+    return problems
+
+
+def _check_ref(site_dir: Path, parsed: dict[str, _Collector], rel: str, c: _Collector,
+               tag: str, attr: str, url: str) -> str | None:
+    parts = urlsplit(url)
+    if parts.scheme or url.startswith("//"):
+        if (tag, attr) in _ASSET_TAGS and (parts.scheme in ("http", "https") or url.startswith("//")):
+            return f"<{tag} {attr}> loads '{url}' from outside the site"
+        return None
+    if not parts.path:
+        if parts.fragment and unquote(parts.fragment) not in c.ids:
+            return f"anchor '#{unquote(parts.fragment)}' not found on this page"
+        return None
+    target = posixpath.normpath(posixpath.join(posixpath.dirname(rel), unquote(parts.path)))
+    if target.startswith(".."):
+        return f"'{url}' points outside the site"
+    path = site_dir / target
+    if path.is_dir():
+        return f"'{url}' names a folder; links must name the file (index.html) to work from file://"
+    if not path.is_file():
+        return f"'{url}' not found"
+    if parts.fragment and target in parsed and unquote(parts.fragment) not in parsed[target].ids:
+        return f"anchor '#{unquote(parts.fragment)}' not found in '{target}'"
+    return None

@@ -1,0 +1,141 @@
+"""Markdown -> HTML fragments, table of contents and plain text, one page at a time.
+
+The result depends only on the page's own source, so it is cached by the source's hash.
+Links are left as the author wrote them (``../w2/index.md``) and directives as markers;
+both are resolved later against the whole site by :mod:`sitegen.links`, which is cheap.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+from dataclasses import dataclass, field
+
+import markdown
+from markdown.extensions import Extension
+from markdown.preprocessors import Preprocessor
+
+from sitegen.slugs import heading_id
+
+#: Bump when the rendering below changes, so cached fragments are invalidated.
+RENDER_VERSION = "md-3"
+
+DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
+MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")
+_TAGS = re.compile(r"<[^>]+>")
+_INLINE_TAGS = re.compile(r"</?(?:span|code|strong|em|b|i|a|sup|sub|mark|small|abbr|kbd|s|u)\b[^>]*>")
+_SPACE = re.compile(r"\s+")
+_FENCE = re.compile(r"^\s*(```|~~~)")
+
+
+@dataclass
+class Rendered:
+    """What a page's Markdown turned into."""
+
+    html: str
+    toc: list[dict]                  # [{"id", "title", "level", "children": [...]}] for h2/h3
+    ids: list[str]                   # every id in the fragment (anchor targets)
+    text: str                        # plain text for search
+    directives: list[tuple[str, str, int]] = field(default_factory=list)  # (name, arg, line)
+
+
+class _Directives(Preprocessor):
+    """``::: clip NAME`` on a line of its own -> a marker that survives Markdown."""
+
+    def __init__(self, md: markdown.Markdown, found: list):
+        super().__init__(md)
+        self.found = found
+
+    def run(self, lines: list[str]) -> list[str]:
+        out, in_fence = [], False
+        for number, line in enumerate(lines, 1):
+            if _FENCE.match(line):
+                in_fence = not in_fence
+            m = None if in_fence else DIRECTIVE.match(line)
+            if m:
+                name, arg = m.group(1), m.group(2)
+                self.found.append((name, arg, number))
+                marker = f"<!--sitegen:{name}:{html.escape(arg, quote=True)}-->"
+                out.extend(["", self.md.htmlStash.store(marker), ""])
+            else:
+                out.append(line)
+        return out
+
+
+class DirectiveExtension(Extension):
+    def __init__(self, found: list, **kwargs):
+        self.found = found
+        super().__init__(**kwargs)
+
+    def extendMarkdown(self, md: markdown.Markdown) -> None:  # noqa: N802 (Markdown API)
+        md.preprocessors.register(_Directives(md, self.found), "sitegen_directives", 27)
+
+
+def _heading_slug(value: str, separator: str) -> str:
+    return heading_id(html.unescape(_TAGS.sub("", value)), separator)
+
+
+class MarkdownRenderer:
+    """A reusable Markdown converter (building one per page is slow)."""
+
+    def __init__(self) -> None:
+        self._found: list = []
+        self.md = markdown.Markdown(
+            extensions=[
+                "tables", "fenced_code", "footnotes", "attr_list", "def_list", "sane_lists",
+                "md_in_html", "codehilite", "toc", DirectiveExtension(self._found),
+            ],
+            extension_configs={
+                "codehilite": {"css_class": "highlight", "guess_lang": False, "wrapcode": True},
+                "toc": {"slugify": _heading_slug, "toc_depth": "2-6", "permalink": "#",
+                        "permalink_class": "anchor", "permalink_title": ""},
+            },
+            output_format="html",
+        )
+
+    def render(self, text: str, strip_first_heading: bool = False) -> Rendered:
+        if strip_first_heading:
+            text = _drop_first_heading(text)
+        self._found.clear()
+        self.md.reset()
+        body = self.md.convert(text)
+        tokens = getattr(self.md, "toc_tokens", [])
+        toc = _toc(tokens)
+        ids = re.findall(r'\sid="([^"]+)"', body)
+        return Rendered(body, toc, ids, plain_text(body), list(self._found))
+
+
+def _drop_first_heading(text: str) -> str:
+    lines = text.split("\n")
+    for i, line in enumerate(lines):
+        if line.strip():
+            if line.lstrip().startswith("# "):
+                lines[i] = ""
+            break
+    return "\n".join(lines)
+
+
+def _toc(tokens: list[dict]) -> list[dict]:
+    """Keep h2 and h3 for the on-page table of contents."""
+    out: list[dict] = []
+
+    def visit(items: list[dict]) -> None:
+        for t in items:
+            if t["level"] == 2:
+                out.append({"id": t["id"], "title": html.unescape(t["name"]), "children": []})
+            elif t["level"] == 3 and out:
+                out[-1]["children"].append({"id": t["id"], "title": html.unescape(t["name"]), "children": []})
+            elif t["level"] == 3:
+                out.append({"id": t["id"], "title": html.unescape(t["name"]), "children": []})
+            visit(t.get("children", []))
+
+    visit(tokens)
+    return out
+
+
+def plain_text(fragment: str) -> str:
+    """Visible text of an HTML fragment, whitespace collapsed (for search and snippets)."""
+    fragment = re.sub(r'<a class="anchor"[^>]*>.*?</a>', "", fragment)
+    fragment = re.sub(r"<(script|style)\b.*?</\1>", " ", fragment, flags=re.S)
+    fragment = _INLINE_TAGS.sub("", fragment)
+    return _SPACE.sub(" ", html.unescape(_TAGS.sub(" ", fragment))).strip()

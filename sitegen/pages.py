@@ -1,0 +1,147 @@
+"""Nodes -> page outputs: template contexts, the special pages, and the site-wide files.
+
+A page is re-rendered only when the hash of its template context changes; the context is
+plain JSON-able data, so the hash covers everything the page shows (its body, menu,
+breadcrumb, neighbours' titles) and nothing else.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import time
+from dataclasses import dataclass
+from pathlib import PurePosixPath
+
+from markupsafe import Markup
+
+from sitegen.config import Config
+from sitegen.nav import Node, Site, full_tree, menu_for
+from sitegen.theme import Theme
+
+# Every page: the name of the generated special pages, kept out of the content namespace.
+SPECIAL = ("sitemap.html", "search.html", "404.html")
+
+
+@dataclass
+class PageBody:
+    html: str
+    toc: list[dict]
+    text: str
+
+
+def build_date() -> str | None:
+    """Only with SOURCE_DATE_EPOCH: otherwise two builds of the same input must be identical."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if not epoch or not epoch.strip().isdigit():
+        return None
+    return time.strftime("%Y-%m-%d", time.gmtime(int(epoch)))
+
+
+def root_prefix(url: str) -> str:
+    return "../" * url.count("/")
+
+
+def _link(n: Node | None) -> dict | None:
+    return None if n is None else {"title": n.title, "url": n.url}
+
+
+def site_context(config: Config, strings: dict) -> dict:
+    return {
+        "site": {"title": config.title, "language": config.language, "description": config.description,
+                 "author": config.author, "base_url": config.base_url or ""},
+        "t": strings,
+        "build_date": build_date(),
+    }
+
+
+def page_context(site: Site, node: Node, body: PageBody, base: dict) -> dict:
+    order = site.order
+    prev_node = order[node.index - 1] if node.index > 0 else None
+    next_node = order[node.index + 1] if node.index + 1 < len(order) else None
+    crumbs = [_link(a) for a in node.ancestors()]
+    children = [_link(c) for c in node.children] if node.is_section and node.parent is not None else []
+    return {
+        **base,
+        "root": root_prefix(node.url),
+        "page": {
+            "title": node.title, "url": node.url, "body": body.html, "toc": body.toc,
+            "breadcrumbs": crumbs, "prev": _link(prev_node), "next": _link(next_node),
+            "children": children, "is_home": node.parent is None,
+        },
+    }
+
+
+class MenuSignatures:
+    """What each page's menu looks like, as a short string, without building 1000 menus.
+
+    A page's menu is its parent's open branch with the page marked current (sections also
+    open their own children), so pages in one folder share one signature plus their URL.
+    """
+
+    def __init__(self, site: Site):
+        self.site = site
+        self._by_node: dict[int, str] = {}
+
+    def _of(self, node: Node) -> str:
+        sig = self._by_node.get(id(node))
+        if sig is None:
+            sig = hashlib.sha256(repr(menu_for(self.site, node)).encode()).hexdigest()
+            self._by_node[id(node)] = sig
+        return sig
+
+    def __call__(self, node: Node) -> str:
+        if node.is_section or node.parent is None:
+            return self._of(node)
+        return f"{self._of(node.parent)}|{node.url}"
+
+
+def context_hash(context: dict, theme_digest: str, menu_signature: str) -> str:
+    """Hash of everything a page shows. ``repr`` is exact for these plain dicts, lists and
+    strings (always built in the same key order) and several times faster than JSON."""
+    text = f"{theme_digest}\0{menu_signature}\0{context!r}"
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def render_page(theme: Theme, site: Site, node: Node, context: dict) -> bytes:
+    ctx = dict(context, menu=menu_for(site, node))
+    ctx["page"] = dict(ctx["page"], body=Markup(ctx["page"]["body"]))
+    return theme.render("page.html", ctx).encode()
+
+
+def special_pages(theme: Theme, site: Site, base: dict) -> dict[str, bytes]:
+    """Site Map (the full tree), the search page and the 404 page, all at the site root."""
+    top = site.root
+    common = {**base, "root": "", "menu": menu_for(site, top), "page": {"title": "", "url": ""}}
+    return {
+        "sitemap.html": theme.render("sitemap.html", {**common, "full_tree": full_tree(site)}).encode(),
+        "search.html": theme.render("search.html", common).encode(),
+        "404.html": theme.render("404.html", common).encode(),
+    }
+
+
+def sitemap_xml(site: Site, base_url: str) -> bytes:
+    from urllib.parse import quote
+
+    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
+             '<urlset xmlns="http://www.sitemaps.org/schemas/sitemap/0.9">']
+    date = build_date()
+    for n in site.order:
+        loc = base_url + quote(n.url, safe="/-._~")
+        if n.url == "index.html":
+            loc = base_url
+        lastmod = f"<lastmod>{date}</lastmod>" if date else ""
+        lines.append(f"  <url><loc>{loc}</loc>{lastmod}</url>")
+    lines.append("</urlset>")
+    return ("\n".join(lines) + "\n").encode()
+
+
+def search_entries(site: Site, bodies: dict[str, PageBody]) -> list[dict]:
+    return [
+        {"title": n.title, "url": n.url, "path": [a.title for a in n.ancestors()], "text": bodies[n.url].text}
+        for n in site.order
+    ]
+
+
+def asset_url(rel: PurePosixPath) -> str:
+    return str(rel)

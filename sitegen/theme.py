@@ -1,0 +1,70 @@
+"""The Jinja2 theme: templates and static assets, project files overriding the defaults.
+
+The default theme is the repo's ``templates/`` folder, installed as the package data
+``sitegen.theme``; a project may put its own ``templates/`` beside ``sitegen.yml`` and any
+file there replaces the default of the same name.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from importlib import resources
+from pathlib import Path
+from urllib.parse import quote
+
+import jinja2
+from pygments.formatters import HtmlFormatter
+
+
+def default_theme_dir() -> Path:
+    """The packaged theme, or the repo's ``templates/`` in a source checkout."""
+    try:
+        path = Path(str(resources.files("sitegen._theme")))
+        if (path / "base.html").is_file():
+            return path
+    except (ModuleNotFoundError, TypeError):
+        pass
+    return Path(__file__).resolve().parents[1] / "templates"
+
+
+def pygments_css() -> str:
+    """Light and dark code colours, generated from Pygments so they match its markup."""
+    light = HtmlFormatter(style="default").get_style_defs(".highlight")
+    dark = HtmlFormatter(style="monokai").get_style_defs(".highlight")
+    return f"{light}\n@media (prefers-color-scheme: dark) {{\n{dark}\n}}\n"
+
+
+class Theme:
+    def __init__(self, project_dir: Path | None):
+        self.dirs = [d for d in (project_dir, default_theme_dir()) if d is not None and d.is_dir()]
+        self.env = jinja2.Environment(
+            loader=jinja2.FileSystemLoader([str(d) for d in self.dirs]),
+            autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=False,
+            keep_trailing_newline=True,
+        )
+        self.env.filters["u"] = lambda path: quote(str(path), safe="/#-._~!$&'()*+,;=:@%")
+
+    def assets(self) -> dict[str, bytes]:
+        """Static files for ``assets/``: the project's override the defaults by name."""
+        out: dict[str, bytes] = {}
+        for d in reversed(self.dirs):
+            folder = d / "assets"
+            if folder.is_dir():
+                for f in sorted(folder.rglob("*")):
+                    if f.is_file() and not f.name.startswith("."):
+                        out[f"assets/{f.relative_to(folder).as_posix()}"] = f.read_bytes()
+        out["assets/pygments.css"] = pygments_css().encode()
+        return out
+
+    def digest(self) -> str:
+        """Hash of every template and asset, so a theme edit re-renders every page."""
+        h = hashlib.sha256()
+        for d in self.dirs:
+            for f in sorted(d.rglob("*")):
+                if f.is_file():
+                    h.update(f.relative_to(d).as_posix().encode())
+                    h.update(f.read_bytes())
+        return h.hexdigest()
+
+    def render(self, template: str, context: dict) -> str:
+        return self.env.get_template(template).render(**context)
