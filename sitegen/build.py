@@ -25,8 +25,15 @@ from sitegen.links import LinkTargets, expand_directives, rewrite_links
 from sitegen.nav import Node, PageInput, build_site
 from sitegen.output import OutFile, from_bytes, publish
 from sitegen.pages import (
-    MenuSignatures, PageBody, context_hash, page_context, render_page, search_entries, site_context,
-    sitemap_xml, special_pages,
+    MenuSignatures,
+    PageBody,
+    context_hash,
+    page_context,
+    render_page,
+    search_entries,
+    site_context,
+    sitemap_xml,
+    special_pages,
 )
 from sitegen.search import search_records, search_script
 from sitegen.theme import Theme
@@ -122,9 +129,10 @@ def build(opts: BuildOptions) -> BuildReport:
         rendered = renders[node.url]
         body = rendered.html
         if src is not None and src.body_html is None:
+            # links first: directive output is generated with final relative URLs already
+            body = rewrite_links(body, node, targets, diags, f"{content_root.name}/{file}", src.text, src.body_line)
             body = expand_directives(body, node, handlers, diags, f"{content_root.name}/{file}",
                                      rendered.directives, src.body_line)
-            body = rewrite_links(body, node, targets, diags, f"{content_root.name}/{file}", src.text, src.body_line)
         bodies[node.url] = PageBody(body, rendered.toc, rendered.text)
         ctx = page_context(site, node, bodies[node.url], base)
         key = context_hash(ctx, theme_digest, menu_signature(node))
@@ -186,7 +194,7 @@ def _render_markdown(site, frag: Fragments, report: BuildReport):
             renders[node.url] = Rendered(html, [], [], plain_text(html))
             continue
         if src.body_html is not None:
-            renders[node.url] = Rendered(src.body_html, [], _ids(src.body_html), plain_text(src.body_html))
+            renders[node.url] = Rendered(src.body_html, src.toc or [], _ids(src.body_html), plain_text(src.body_html))
             continue
         key = hashlib.sha256(f"{RENDER_VERSION}\0{node.strip_first_heading}\0{src.text}".encode()).hexdigest()
         cached = frag.markdown.get(key)

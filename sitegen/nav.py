@@ -33,6 +33,7 @@ class PageInput:
     body_html: str | None = None  # set for generated pages, already escaped
     body_line: int = 1
     digest: str = ""
+    toc: list[dict] | None = None      # generated pages may give their own table of contents
 
 
 @dataclass(eq=False)

@@ -168,14 +168,8 @@ BRUSH_LANG = {
 }
 
 
-def brush_language(spec: str) -> tuple[str, bool]:
-    """``'brush:js;auto-links:false'`` or ``'py'`` -> (language, known?)."""
-    name = spec
-    for part in spec.split(";"):
-        key, _, value = part.partition(":")
-        if key.strip().lower() == "brush":
-            name = value
-            break
+def brush_language(name: str) -> tuple[str, bool]:
+    """A SyntaxHighlighter brush alias (``'js'``, ``'py'``) -> (fenced-code language, known?)."""
     name = name.strip().lower()
     if name in BRUSH_LANG:
         return BRUSH_LANG[name], True

@@ -1,0 +1,382 @@
+"""Import a cmsimde site (one ``config/content.htm``) into a sitegen ``content/`` tree.
+
+cmsimde splits its single HTML file into pages at every H1, H2 and H3 and shows them in
+document order, each heading nested under the last shallower one. We reproduce exactly that:
+one Markdown file per heading; a heading with sub-headings becomes a folder whose
+``index.md`` holds its own text. Numeric prefixes in the names *and* ``weight`` in the front
+matter fix the order, so sitegen's depth-first walk (section page, then its children) yields
+cmsimde's sequence of titles. Exact titles go in ``title:`` (duplicates are fine: the site
+builder disambiguates slugs).
+
+Everything is computed in memory first and written at the end into a temporary folder that
+replaces DEST, so a failed import never leaves half a tree and the same input always gives
+byte-identical output.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+
+from sitegen.importers import mdtext
+from sitegen.importers.cmsimde_links import Assets, LinkResolver
+from sitegen.importers.html_to_markdown import Converter, Hooks
+from sitegen.importers.htmltree import Element, Node, Text, parse_html
+from sitegen.slugs import slugify
+
+PAGE_HEADINGS = ("h1", "h2", "h3")
+_RESERVED_STEMS = {"index", "readme", "_index"}  # sitegen reads these as a folder's own page
+
+
+class CmsimdeImportError(Exception):
+    """A problem that stops the import; printed by the CLI as ``file:line: message``."""
+
+    def __init__(self, file: str | Path, line: int, message: str) -> None:
+        super().__init__(f"{file}:{line}: {message}")
+        self.file, self.line, self.message = str(file), line, message
+
+
+@dataclass
+class PageReport:
+    """One produced page and what could not be carried over into it."""
+
+    title: str
+    path: str            # posix path relative to DEST
+    level: int           # 1-3 as in cmsimde; 0 for the front page made from text before H1
+    line: int            # line of the heading in content.htm
+    warnings: list[str] = field(default_factory=list)
+
+
+@dataclass
+class ImportReport:
+    """What an import did. ``warnings`` holds every page's warnings as "title: message"."""
+
+    source: Path
+    dest: Path
+    pages: list[PageReport] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    files_copied: list[str] = field(default_factory=list)      # DEST-relative paths
+    images_extracted: list[str] = field(default_factory=list)  # DEST-relative paths
+
+
+@dataclass
+class _Page:
+    title: str
+    level: int
+    line: int
+    nodes: list[Node]
+    children: list[_Page] = field(default_factory=list)
+    rel: PurePosixPath = PurePosixPath("index.md")
+    weight: int = 0
+
+
+@dataclass
+class _Site:
+    content_file: Path
+    root: Path              # where config/ lives (or the file's folder for a bare content.htm)
+    asset_bases: list[Path]  # folders that may hold images/, downloads/, static/
+
+
+# -- locating and reading ---------------------------------------------------------------------
+
+def _locate(path: Path) -> _Site:
+    if path.is_dir():
+        for candidate in (path / "config" / "content.htm", path / "content.htm"):
+            if candidate.is_file():
+                root = path
+                break
+        else:
+            raise CmsimdeImportError(path, 0, "not a cmsimde site: no config/content.htm in it")
+        content_file = candidate
+    elif path.is_file():
+        content_file = path
+        root = path.parent.parent if path.parent.name == "config" else path.parent
+    else:
+        raise CmsimdeImportError(path, 0, "no such file or directory")
+    return _Site(content_file, root, [root, root / "content"])
+
+
+def _read(file: Path) -> str:
+    try:
+        data = file.read_bytes()
+    except OSError as exc:
+        raise CmsimdeImportError(file, 0, f"cannot read: {exc.strerror}") from None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise CmsimdeImportError(file, line, "not valid UTF-8 (cmsimde writes UTF-8)") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _site_title(site: _Site) -> str:
+    """cmsimde keeps the site title in config/config as ``siteTitle:...``."""
+    config = site.root / "config" / "config"
+    try:
+        first = config.read_text(encoding="utf-8").split("\n", 1)[0]
+    except (OSError, UnicodeDecodeError):
+        return "Home"
+    key, _, value = first.partition(":")
+    return value.strip() if key.strip() == "siteTitle" and value.strip() else "Home"
+
+
+# -- splitting into pages ----------------------------------------------------------------------
+
+def _is_page_heading(node: Node) -> bool:
+    return isinstance(node, Element) and node.tag in PAGE_HEADINGS and bool(node.text().strip())
+
+
+def _contains_heading(el: Element) -> bool:
+    return any(_is_page_heading(n) for n in el.walk())
+
+
+def _flatten(nodes: list[Node], lifted: list[Element]) -> list[Node]:
+    """Bring headings nested in containers (``<div><h2>``) to the top, splitting the container.
+
+    cmsimde cuts the raw text at each heading, which splits such a container too; we split it
+    cleanly (one copy of the container before the heading, one after).
+    """
+    out: list[Node] = []
+    for node in nodes:
+        if isinstance(node, Element) and not _is_page_heading(node) and _contains_heading(node):
+            lifted.append(node)
+            buffer: list[Node] = []
+            for part in _flatten(node.children, lifted):
+                if _is_page_heading(part):
+                    if buffer:
+                        out.append(node.clone(buffer))
+                        buffer = []
+                    out.append(part)
+                else:
+                    buffer.append(part)
+            if buffer:
+                out.append(node.clone(buffer))
+        else:
+            out.append(node)
+    return out
+
+
+def _split(root: Element, site_warnings: list[str]) -> tuple[list[Node], list[_Page]]:
+    lifted: list[Element] = []
+    nodes = _flatten(root.children, lifted)
+    for el in lifted:
+        site_warnings.append(f"<{el.tag}> at line {el.line} contains page headings: split at them")
+    preamble: list[Node] = []
+    pages: list[_Page] = []
+    for node in nodes:
+        if _is_page_heading(node):
+            assert isinstance(node, Element)
+            pages.append(_Page(node.text().strip(), int(node.tag[1]), node.line, []))
+        elif isinstance(node, Element) and node.tag in PAGE_HEADINGS:
+            site_warnings.append(f"empty <{node.tag}> at line {node.line} is not a page (cmsimde drops it)")
+            (pages[-1].nodes if pages else preamble).append(node)
+        else:
+            (pages[-1].nodes if pages else preamble).append(node)
+    return preamble, pages
+
+
+def _heading_markup(root: Element) -> dict[int, list[str]]:
+    """Elements inside page headings (links, images...): only their text survives as title."""
+    found: dict[int, list[str]] = {}
+    for el in root.walk():
+        if _is_page_heading(el):
+            assert isinstance(el, Element)
+            tags = sorted({n.tag for n in el.walk() if isinstance(n, Element)})
+            if tags:
+                found[el.line] = tags
+    return found
+
+
+def _nest(pages: list[_Page]) -> list[_Page]:
+    """Each heading goes under the nearest earlier heading of a smaller level (as cmsimde's menu)."""
+    top: list[_Page] = []
+    stack: list[_Page] = []
+    for page in pages:
+        while stack and stack[-1].level >= page.level:
+            stack.pop()
+        (stack[-1].children if stack else top).append(page)
+        stack.append(page)
+    return top
+
+
+def _assign_paths(pages: list[_Page], folder: PurePosixPath) -> None:
+    width = max(2, len(str(len(pages))))
+    for number, page in enumerate(pages, 1):
+        stem = slugify(page.title, "page")
+        if stem in _RESERVED_STEMS:
+            stem += "-page"
+        name = f"{number:0{width}d}-{stem}"
+        page.weight = number
+        if page.children:
+            page.rel = folder / name / "index.md"
+            _assign_paths(page.children, folder / name)
+        else:
+            page.rel = folder / f"{name}.md"
+
+
+def _walk(pages: list[_Page]):
+    for page in pages:
+        yield page
+        yield from _walk(page.children)
+
+
+# -- output ------------------------------------------------------------------------------------
+
+def _page_text(title: str, weight: int | None, body: str) -> bytes:
+    head = ["---", f"title: {mdtext.yaml_string(title)}"]
+    if weight is not None:
+        head.append(f"weight: {weight}")
+    head.append("---")
+    text = "\n".join(head) + "\n" + (f"\n{body}\n" if body.strip() else "")
+    return text.encode("utf-8")
+
+
+def _visible(nodes: list[Node]) -> bool:
+    for node in nodes:
+        if isinstance(node, Text) and node.data.replace("\xa0", " ").strip():
+            return True
+        if isinstance(node, Element) and node.tag not in ("script", "style", "br", "p", "div", "span"):
+            return True
+        if isinstance(node, Element) and _visible(node.children):
+            return True
+    return False
+
+
+def _inside(child: Path, parent: Path) -> bool:
+    try:
+        child.resolve().relative_to(parent.resolve())
+        return True
+    except ValueError:
+        return False
+
+
+def _check_dest(dest: Path, site: _Site, force: bool) -> None:
+    if dest.exists() and not dest.is_dir():
+        raise CmsimdeImportError(dest, 0, "destination exists and is not a folder")
+    guarded = [site.content_file] + [b / d for b in site.asset_bases for d in Assets.KINDS]
+    for path in guarded:
+        if path.exists() and _inside(path, dest):
+            raise CmsimdeImportError(dest, 0, f"destination contains the site being imported ({path})")
+    if dest.exists() and any(dest.iterdir()):
+        if not force:
+            raise CmsimdeImportError(dest, 0, "destination is not empty (use --force to replace it)")
+        if (dest / ".git").exists():
+            raise CmsimdeImportError(dest, 0, "refusing to replace a folder that holds a .git repository")
+
+
+def _write(dest: Path, files: dict[str, bytes], copies: dict[str, Path]) -> None:
+    parent = dest.absolute().parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{dest.name}.import-", dir=parent))
+    except OSError as exc:
+        raise CmsimdeImportError(dest, 0, f"cannot create: {exc.strerror}") from None
+    try:
+        for rel in sorted(files):
+            target = tmp / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(files[rel])
+        for rel in sorted(copies):
+            target = tmp / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(copies[rel], target)
+        if dest.exists():
+            shutil.rmtree(dest)
+        os.replace(tmp, dest)
+    except OSError as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        where = exc.filename or dest
+        raise CmsimdeImportError(where, 0, f"cannot write: {exc.strerror or exc}") from None
+
+
+# -- the import ---------------------------------------------------------------------------------
+
+def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportReport:
+    """Import the cmsimde site at ``path`` (a content.htm or a site folder) into ``dest``.
+
+    Raises :class:`CmsimdeImportError` for problems that stop the import; everything that
+    was imported imperfectly is listed, page by page, in the returned report instead.
+    """
+    path, dest = Path(path), Path(dest)
+    site = _locate(path)
+    _check_dest(dest, site, force)
+    source = _read(site.content_file)
+    root, issues = parse_html(source)
+    site_warnings: list[str] = []
+    preamble, flat = _split(root, site_warnings)
+    if not flat:
+        raise CmsimdeImportError(site.content_file, 1, "no <h1>, <h2> or <h3> with text: "
+                                 "cmsimde needs at least one heading to make a page")
+    markup = _heading_markup(root)
+    tree = _nest(flat)
+    _assign_paths(tree, PurePosixPath("."))
+    pages = list(_walk(tree))
+    front = _Page(_site_title(site), 0, 1, preamble) if _visible(preamble) else None
+    if front is not None:
+        front.rel = PurePosixPath("index.md")
+
+    assets = Assets(site.asset_bases)
+    links = LinkResolver(pages, assets)
+    report = ImportReport(source=site.content_file, dest=dest)
+    files: dict[str, bytes] = {}
+    starts = [(p.line, p) for p in pages]  # document order is line order
+    for page in ([front] if front else []) + pages:
+        page_report = PageReport(page.title, page.rel.as_posix(), page.level, page.line)
+        notes: list[tuple[int, str]] = []
+
+        def warn(message: str, line: int, notes: list[tuple[int, str]] = notes) -> None:
+            notes.append((line, message))
+
+        missing: list[str] = []
+        hooks = Hooks(
+            url=lambda url, el, attr, p=page, w=warn, m=missing: links.url(p, url, el, w, m),
+            data_image=lambda uri, el, p=page, w=warn: assets.data_image(p.rel, uri, el, w),
+            warn=warn,
+        )
+        body = Converter(hooks).convert(page.nodes)
+        for line, message in sorted(_issues_for(page, starts, issues, front is not None)):
+            notes.insert(0, (line, message))
+        if page is front:
+            notes.insert(0, (0, "text before the first heading (cmsimde never shows it) kept here"))
+        if page.line in markup:
+            tags = ", ".join(f"<{t}>" for t in markup[page.line])
+            notes.insert(0, (page.line, f"markup inside the heading not carried over ({tags}); title kept as text"))
+        if missing:
+            notes.append((0, "missing file(s), linked but not copied: " + ", ".join(dict.fromkeys(missing))))
+        for line, message in notes:
+            text = f"{message} (line {line})" if line else message
+            page_report.warnings.append(text)
+            report.warnings.append(f"{page.title}: {text}")
+        weight = None if page is front else page.weight
+        files[page.rel.as_posix()] = _page_text(page.title, weight, body)
+        report.pages.append(page_report)
+
+    if front is None and preamble:
+        for line, message in _issues_for(None, starts, issues, False):
+            site_warnings.append(f"{message} (line {line})")
+    site_warnings.extend(assets.site_warnings())
+    report.warnings.extend(f"{site.content_file.name}: {w}" for w in site_warnings)
+    files.update({rel: data for rel, data in assets.extracted.items()})
+    report.files_copied = sorted(assets.copies)
+    report.images_extracted = sorted(assets.extracted)
+    _write(dest, files, assets.copies)
+    return report
+
+
+def _issues_for(page: _Page | None, starts: list[tuple[int, _Page]], issues, has_front: bool):
+    """Parse issues that fall between this page's heading and the next one."""
+    out = []
+    for issue in issues:
+        owner = None
+        for line, candidate in starts:
+            if line <= issue.line:
+                owner = candidate
+        if owner is page or (page is not None and page.level == 0 and owner is None and has_front):
+            out.append((issue.line, issue.message))
+    return out
+
+
+__all__ = ["CmsimdeImportError", "ImportReport", "PageReport", "import_cmsimde"]
