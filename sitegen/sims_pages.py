@@ -189,10 +189,12 @@ class SimsIntegration(Integration):
         from pygments.formatters import HtmlFormatter
         from pygments.lexers import PythonLexer
 
-        path = meta.get("source_path")
+        path = meta.get("source") or meta.get("source_path")
         candidates = [Path(path)] if path else []
         if path and not Path(path).is_absolute():
-            candidates.append(self.config.root / path)
+            from sims.cache import ROOT_DIR  # sims records package-relative paths
+
+            candidates = [ROOT_DIR / path, self.config.root / path]
         source = next((p for p in candidates if p.is_file()), None)
         if source is None:
             return ""

@@ -15,6 +15,7 @@ byte-identical output.
 
 from __future__ import annotations
 
+import bisect
 import os
 import shutil
 import tempfile
@@ -24,7 +25,7 @@ from pathlib import Path, PurePosixPath
 from sitegen.importers import mdtext
 from sitegen.importers.cmsimde_links import Assets, LinkResolver
 from sitegen.importers.html_to_markdown import Converter, Hooks
-from sitegen.importers.htmltree import Element, Node, Text, parse_html
+from sitegen.importers.htmltree import Element, Node, ParseIssue, Text, parse_html
 from sitegen.slugs import slugify
 
 PAGE_HEADINGS = ("h1", "h2", "h3")
@@ -159,11 +160,11 @@ def _flatten(nodes: list[Node], lifted: list[Element]) -> list[Node]:
     return out
 
 
-def _split(root: Element, site_warnings: list[str]) -> tuple[list[Node], list[_Page]]:
+def _split(root: Element, notes: list[ParseIssue]) -> tuple[list[Node], list[_Page]]:
     lifted: list[Element] = []
     nodes = _flatten(root.children, lifted)
     for el in lifted:
-        site_warnings.append(f"<{el.tag}> at line {el.line} contains page headings: split at them")
+        notes.append(ParseIssue(el.line, f"<{el.tag}> holds page headings: split at them"))
     preamble: list[Node] = []
     pages: list[_Page] = []
     for node in nodes:
@@ -171,7 +172,7 @@ def _split(root: Element, site_warnings: list[str]) -> tuple[list[Node], list[_P
             assert isinstance(node, Element)
             pages.append(_Page(node.text().strip(), int(node.tag[1]), node.line, []))
         elif isinstance(node, Element) and node.tag in PAGE_HEADINGS:
-            site_warnings.append(f"empty <{node.tag}> at line {node.line} is not a page (cmsimde drops it)")
+            notes.append(ParseIssue(node.line, f"empty <{node.tag}> is not a page (cmsimde drops it)"))
             (pages[-1].nodes if pages else preamble).append(node)
         else:
             (pages[-1].nodes if pages else preamble).append(node)
@@ -305,11 +306,15 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     _check_dest(dest, site, force)
     source = _read(site.content_file)
     root, issues = parse_html(source)
-    site_warnings: list[str] = []
-    preamble, flat = _split(root, site_warnings)
+    preamble, flat = _split(root, issues)
     if not flat:
         raise CmsimdeImportError(site.content_file, 1, "no <h1>, <h2> or <h3> with text: "
                                  "cmsimde needs at least one heading to make a page")
+    if flat[0].level != 1:  # cmsimde rewrites a first <h2>/<h3> into <h1> when it loads the file
+        issues.append(ParseIssue(flat[0].line, f"first heading is <h{flat[0].level}>: "
+                                 "made a top-level page, as cmsimde does"))
+        flat[0].level = 1
+    issues.sort(key=lambda issue: issue.line)
     markup = _heading_markup(root)
     tree = _nest(flat)
     _assign_paths(tree, PurePosixPath("."))
@@ -321,62 +326,67 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     assets = Assets(site.asset_bases)
     links = LinkResolver(pages, assets)
     report = ImportReport(source=site.content_file, dest=dest)
+    per_page, site_warnings = _assign_issues(issues, pages, front)
     files: dict[str, bytes] = {}
-    starts = [(p.line, p) for p in pages]  # document order is line order
     for page in ([front] if front else []) + pages:
-        page_report = PageReport(page.title, page.rel.as_posix(), page.level, page.line)
-        notes: list[tuple[int, str]] = []
-
-        def warn(message: str, line: int, notes: list[tuple[int, str]] = notes) -> None:
-            notes.append((line, message))
-
-        missing: list[str] = []
-        hooks = Hooks(
-            url=lambda url, el, attr, p=page, w=warn, m=missing: links.url(p, url, el, w, m),
-            data_image=lambda uri, el, p=page, w=warn: assets.data_image(p.rel, uri, el, w),
-            warn=warn,
-        )
-        body = Converter(hooks).convert(page.nodes)
-        for line, message in sorted(_issues_for(page, starts, issues, front is not None)):
-            notes.insert(0, (line, message))
-        if page is front:
-            notes.insert(0, (0, "text before the first heading (cmsimde never shows it) kept here"))
+        body, notes = _convert(page, links, assets)
+        notes.extend(per_page.get(id(page), []))
         if page.line in markup:
             tags = ", ".join(f"<{t}>" for t in markup[page.line])
-            notes.insert(0, (page.line, f"markup inside the heading not carried over ({tags}); title kept as text"))
-        if missing:
-            notes.append((0, "missing file(s), linked but not copied: " + ", ".join(dict.fromkeys(missing))))
+            notes.append((page.line, f"markup inside the heading not carried over ({tags}); title kept as text"))
+        notes.sort(key=lambda note: note[0] or 10**9)  # located notes in source order, then summaries
+        if page is front:
+            notes.insert(0, (0, "text before the first heading (cmsimde never shows it) kept here"))
+        page_report = PageReport(page.title, page.rel.as_posix(), page.level, page.line)
         for line, message in notes:
-            text = f"{message} (line {line})" if line else message
-            page_report.warnings.append(text)
-            report.warnings.append(f"{page.title}: {text}")
-        weight = None if page is front else page.weight
-        files[page.rel.as_posix()] = _page_text(page.title, weight, body)
+            page_report.warnings.append(f"{message} (line {line})" if line else message)
+        report.warnings.extend(f"{page.title}: {w}" for w in page_report.warnings)
         report.pages.append(page_report)
-
-    if front is None and preamble:
-        for line, message in _issues_for(None, starts, issues, False):
-            site_warnings.append(f"{message} (line {line})")
+        files[page.rel.as_posix()] = _page_text(page.title, None if page is front else page.weight, body)
+    if front is None and preamble:  # only invisible things (scripts, comments) before the first heading
+        _, notes = _convert(_Page("", 0, 1, preamble), links, assets)
+        site_warnings.extend(f"before the first heading: {m}" + (f" (line {n})" if n else "") for n, m in notes)
     site_warnings.extend(assets.site_warnings())
     report.warnings.extend(f"{site.content_file.name}: {w}" for w in site_warnings)
-    files.update({rel: data for rel, data in assets.extracted.items()})
+    files.update(assets.extracted)
     report.files_copied = sorted(assets.copies)
     report.images_extracted = sorted(assets.extracted)
     _write(dest, files, assets.copies)
     return report
 
 
-def _issues_for(page: _Page | None, starts: list[tuple[int, _Page]], issues, has_front: bool):
-    """Parse issues that fall between this page's heading and the next one."""
-    out = []
+def _convert(page: _Page, links: LinkResolver, assets: Assets) -> tuple[str, list[tuple[int, str]]]:
+    """Markdown for one page, and its (line, message) notes; line 0 means page-wide."""
+    notes: list[tuple[int, str]] = []
+    missing: list[str] = []
+
+    def warn(message: str, line: int) -> None:
+        notes.append((line, message))
+
+    hooks = Hooks(
+        url=lambda url, el, attr: links.url(page, url, el, warn, missing),
+        data_image=lambda uri, el: assets.data_image(page.rel, uri, el, warn),
+        warn=warn,
+    )
+    body = Converter(hooks).convert(page.nodes)
+    if missing:
+        notes.append((0, "missing file(s), linked but not copied: " + ", ".join(dict.fromkeys(missing))))
+    return body, notes
+
+
+def _assign_issues(issues: list[ParseIssue], pages: list[_Page], front: _Page | None):
+    """Give each markup problem to the page whose source it is in (by line)."""
+    lines = [p.line for p in pages]
+    per_page: dict[int, list[tuple[int, str]]] = {}
+    site: list[str] = []
     for issue in issues:
-        owner = None
-        for line, candidate in starts:
-            if line <= issue.line:
-                owner = candidate
-        if owner is page or (page is not None and page.level == 0 and owner is None and has_front):
-            out.append((issue.line, issue.message))
-    return out
+        at = bisect.bisect_right(lines, issue.line) - 1
+        owner = pages[at] if at >= 0 else front
+        if owner is None:
+            site.append(f"before the first heading: {issue.message} (line {issue.line})")
+        else:
+            per_page.setdefault(id(owner), []).append((issue.line, issue.message))
+    return per_page, site
 
 
 __all__ = ["CmsimdeImportError", "ImportReport", "PageReport", "import_cmsimde"]

@@ -16,11 +16,20 @@ import posixpath
 import re
 from collections.abc import Callable
 from pathlib import Path, PurePosixPath
+from typing import Protocol
 from urllib.parse import parse_qs, unquote, unquote_to_bytes, urlsplit
 
 from sitegen.importers.htmltree import Element
 
 Warn = Callable[[str, int], None]
+
+
+class PageLike(Protocol):
+    """What link resolution needs of a page: its exact title and its .md path."""
+
+    title: str
+    rel: PurePosixPath
+
 
 _ASSET = re.compile(r"^(?:\.{1,2}/)*/?(images|downloads|static)/(.+)$")
 _GET_PAGE = re.compile(r"^/get_page/([^/]+)(?:/\d+)?/?$")
@@ -128,11 +137,11 @@ class Assets:
 class LinkResolver:
     """Rewrites the URLs of one page: assets relative to it, cmsimde pages to their .md file."""
 
-    def __init__(self, pages: list, assets: Assets) -> None:
+    def __init__(self, pages: list[PageLike], assets: Assets) -> None:
         self.assets = assets
         self.first = pages[0]
-        self.by_title: dict[str, object] = {}
-        self.by_static: dict[str, object] = {}
+        self.by_title: dict[str, PageLike] = {}
+        self.by_static: dict[str, PageLike] = {}
         counts: dict[str, int] = {}
         for page in pages:
             counts[page.title] = counts.get(page.title, 0) + 1
@@ -144,7 +153,7 @@ class LinkResolver:
             name = f"{page.title}-{seen[page.title]}" if counts[page.title] > 1 else page.title
             self.by_static.setdefault(name, page)
 
-    def url(self, page, url: str, el: Element, warn: Warn, missing: list[str]) -> str:
+    def url(self, page: PageLike, url: str, el: Element, warn: Warn, missing: list[str]) -> str:
         raw = url.strip()
         if not raw or raw.startswith("#"):
             return raw
@@ -169,13 +178,15 @@ class LinkResolver:
             warn(f"relative link {raw} left as is", el.line)
         return raw
 
-    def _page_for(self, path: str, query: str):
+    def _page_for(self, path: str, query: str) -> tuple[PageLike | None, str | None]:
         """(page, None) if ``path`` names a page; (None, title) if it names an unknown one."""
         if path in ("/", "", "/get_page", "/get_page/") or re.fullmatch(r"(?:\.{1,2}/)*/?(?:content/)?index\.html?", path):
             heading = parse_qs(query).get("heading")
             if heading:
                 return self.by_title.get(heading[0].strip()), heading[0]
-            return (self.first, None) if path or not query else (None, None)
+            if not path and query:  # "?x=1" alone is not a page link
+                return None, None
+            return self.first, None
         m = _GET_PAGE.match(path)
         if m:
             title = m.group(1).strip()

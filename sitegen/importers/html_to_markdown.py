@@ -11,87 +11,37 @@ the caller, through :class:`Hooks`.
 from __future__ import annotations
 
 import re
-from collections import Counter
-from collections.abc import Callable
-from dataclasses import dataclass
 
 from sitegen.importers import mdtext
-from sitegen.importers.htmltree import VOID, Comment, Element, Node, Text, to_html
+from sitegen.importers.html_code import code_block, code_text, highlighter_code, pre_language
+from sitegen.importers.html_inline import (
+    BLOCKS,
+    CODE,
+    DROP,
+    EMPHASIS,
+    HEADINGS,
+    RAW,
+    SILENT_UNWRAP,
+    TRANSPARENT,
+    WRAP,
+    Hooks,
+    InlineConverter,
+    has_block,
+)
+from sitegen.importers.htmltree import Comment, Element, Node, Text
 
-HEADINGS = {"h1", "h2", "h3", "h4", "h5", "h6"}
-#: Dropped everywhere except inside code, with a warning.
-DROP = {"script", "style", "link", "meta", "head", "title", "base"}
-#: Kept verbatim as HTML: Markdown has no equivalent.
-RAW = {"iframe", "video", "audio", "object", "embed", "canvas", "svg", "math", "map",
-       "button", "input", "select", "textarea", "form", "picture", "dl", "details",
-       "fieldset", "noscript", "progress", "meter", "output"}
-#: Blocks whose children are simply rendered in their place.
-TRANSPARENT = {"div", "section", "article", "aside", "header", "footer", "main", "nav",
-               "center", "figure", "figcaption", "html", "body", "address", "hgroup", "li",
-               "tr", "td", "th", "thead", "tbody", "tfoot", "caption", "menu", "dir"}
-BLOCKS = HEADINGS | TRANSPARENT | {"p", "pre", "ul", "ol", "table", "blockquote", "hr"} | {
-    "dl", "details", "fieldset", "form", "noscript"}
 _MD_BLOCKS = HEADINGS | {"p", "pre", "ul", "ol", "table", "blockquote"}
-#: Inline tags kept as HTML around Markdown content (none is "block-level" to Markdown).
-WRAP = {"u": "u", "ins": "ins", "mark": "mark", "sub": "sub", "sup": "sup", "small": "small",
-        "big": "big", "s": "s", "strike": "s", "del": "del", "abbr": "abbr", "q": "q"}
-EMPHASIS = {"strong": "**", "b": "**", "em": "*", "i": "*", "cite": "*", "var": "*", "dfn": "*"}
-CODE = {"code", "kbd", "samp", "tt"}
-SILENT_UNWRAP = {"span", "font", "label", "bdi", "bdo", "data", "time", "nobr", "legend",
-                 "optgroup", "option", "summary", "rb", "rt", "rp", "ruby", "colgroup", "col",
-                 "area", "source", "track", "param", "wbr", "center"}
-#: Formatting a code highlighter may leave inside <pre>; anything else there was typed code.
-CODE_FORMATTING = {"span", "code", "b", "strong", "i", "em", "a", "font", "u", "mark", "sub",
-                   "sup", "s", "small", "big"}
-KEEP_SPAN_STYLE = {"color", "background-color", "background", "font-weight", "font-style",
-                   "text-decoration", "font-size"}
+
+__all__ = ["Converter", "Hooks"]
 
 
-@dataclass
-class Hooks:
-    """What the converter asks its caller: URL rewriting, data: images, warnings."""
-
-    url: Callable[[str, Element, str], str]          # (url, element, attribute) -> url
-    data_image: Callable[[str, Element], str | None]  # data: URI -> new src, or None
-    warn: Callable[[str, int], None]                  # (message, source line)
-
-
-def _style(value: str) -> list[tuple[str, str]]:
-    out = []
-    for decl in value.split(";"):
-        prop, _, val = decl.partition(":")
-        if prop.strip() and val.strip():
-            out.append((prop.strip().lower(), val.strip()))
-    return out
-
-
-def _has_block(el: Element) -> bool:
-    return any(isinstance(n, Element) and n.tag in BLOCKS for n in el.walk())
-
-
-def _merge_adjacent(nodes: list[Node]) -> list[Node]:
-    """``<b>a</b><b>b</b>`` -> one ``<b>``: ``**a****b**`` would not parse."""
-    out: list[Node] = []
-    for node in nodes:
-        prev = out[-1] if out else None
-        if (isinstance(node, Element) and isinstance(prev, Element) and node.tag in EMPHASIS
-                and EMPHASIS.get(prev.tag) == EMPHASIS[node.tag]):
-            out[-1] = prev.clone(prev.children + node.children)
-        else:
-            out.append(node)
-    return out
-
-
-class Converter:
+class Converter(InlineConverter):
     """Converts one page; collects counts of what it dropped for a per-page summary."""
 
     def __init__(self, hooks: Hooks) -> None:
-        self.hooks = hooks
-        self.dropped_styles: Counter[str] = Counter()
+        super().__init__(hooks)
         self.comments = 0
-        self._emphasis: Counter[str] = Counter()
         self._nested = 0
-        self._in_table = False
 
     # -- entry points -------------------------------------------------------------------
     def convert(self, nodes: list[Node]) -> str:
@@ -118,7 +68,8 @@ class Converter:
             kind = el.attrs.get("type", "").lower()
             what = "Brython (Python) script" if "python" in kind else "<script>"
             src = el.attrs.get("src")
-            detail = f"src={src}" if src else f"{len(el.text().strip().splitlines())} lines inline"
+            count = len(el.text().strip().splitlines())
+            detail = f"src={src}" if src else f"{count} line{'' if count == 1 else 's'} inline"
             self.hooks.warn(f"{what} not carried over ({detail})", el.line)
         elif el.tag == "style":
             self.hooks.warn("<style> element not carried over", el.line)
@@ -131,12 +82,6 @@ class Converter:
             self.hooks.warn(f"layout styles not carried over: {parts}", 0)
         if self.comments:
             self.hooks.warn(f"{self.comments} HTML comment(s) dropped", 0)
-
-    def _count_styles(self, el: Element) -> None:
-        for prop, _ in _style(el.attrs.get("style", "")):
-            self.dropped_styles[prop] += 1
-        if "align" in el.attrs and el.tag not in ("td", "th"):
-            self.dropped_styles["align"] += 1
 
     # -- blocks -------------------------------------------------------------------------
     def blocks(self, nodes: list[Node]) -> list[str]:
@@ -152,7 +97,7 @@ class Converter:
 
         for node in nodes:
             if isinstance(node, Element) and (
-                node.tag in BLOCKS or (node.tag not in RAW and _has_block(node))
+                node.tag in BLOCKS or (node.tag not in RAW and has_block(node))
             ):
                 flush()
                 out.extend(b for b in self.block(node) if b.strip())
@@ -182,9 +127,11 @@ class Converter:
         if tag in RAW:
             return [self.raw(el)]
         if tag == "div" and "syntaxhighlighter" in el.classes():
-            code = self.highlighter(el)
-            if code is not None:
-                return [code]
+            found = highlighter_code(el)
+            if found is not None:
+                self.hooks.warn("rendered SyntaxHighlighter table turned back into a code block "
+                                "(line numbers dropped)", el.line)
+                return [self._code(found[0], found[1], el.line)]
         if tag == "div" and self._raw_only(el):
             return [self.raw(el)]
         if tag not in TRANSPARENT and tag not in SILENT_UNWRAP:
@@ -254,8 +201,13 @@ class Converter:
                     items.append(blocks)
         finally:
             self._nested -= 1
+        # Python-Markdown reads an item after a multi-line one as its lazy continuation, so
+        # such lists get blank lines between items (a "loose" list: same text, more spacing).
+        loose = any(len(blocks) > 1 or "\n" in blocks[0] for blocks in items)
         lines: list[str] = []
         for blocks in items:
+            if loose and lines:
+                lines.append("")
             marker = f"{number}." if ordered else "-"
             number += 1
             body = "\n\n".join(blocks)
@@ -268,71 +220,22 @@ class Converter:
 
     # -- code ---------------------------------------------------------------------------
     def pre(self, el: Element) -> str:
-        m = re.search(r"brush\s*:\s*([^;\s]+)", el.attrs.get("class", ""))
-        spec = m.group(1) if m else ""
-        lang, known = mdtext.brush_language(spec) if spec else ("", True)
-        if not spec:
-            for c in [*el.classes(), *(x for n in el.find_all("code") for x in n.classes())]:
-                if c.startswith(("language-", "lang-")):
-                    lang, known = mdtext.brush_language(c.split("-", 1)[1])
+        lang, known, brush = pre_language(el)
         if not known:
             self.hooks.warn(f"code language {lang!r} not recognised, kept as written", el.line)
-        if not spec and any("href" in a.attrs for a in el.find_all("a")):
+        if not brush and any("href" in a.attrs for a in el.find_all("a")):
             return self.raw(el)  # preformatted text with links: Markdown code would lose them
         typed: list[str] = []
-        code = self._code_text(el.children, literal=bool(spec), typed=typed)
+        code = code_text(el.children, literal=brush, typed=typed)
         if typed:
             names = ", ".join(f"<{t}>" for t in sorted(set(typed)))
             self.hooks.warn(f"markup inside code kept as literal text: {names}", el.line)
-        return self._code_block(code, lang, el.line)
+        return self._code(code, lang, el.line)
 
-    def _code_block(self, code: str, lang: str, line: int) -> str:
-        code = code.replace("\xa0", " ").replace("\r", "")
-        if code.startswith("\n"):
-            code = code[1:]  # HTML ignores a newline right after <pre>
-        code = code.rstrip("\n")
-        if not code.strip():
-            return ""
-        if self._nested:
-            if lang:
-                self.hooks.warn(f"code block inside a list or quote: language {lang!r} not kept", line)
-            return mdtext.indented_code(code)
-        return mdtext.code_fence(code, lang)
-
-    def _code_text(self, nodes: list[Node], literal: bool, typed: list[str]) -> str:
-        parts: list[str] = []
-        for node in nodes:
-            if isinstance(node, Text):
-                parts.append(node.data)
-            elif isinstance(node, Comment):
-                if literal:
-                    parts.append(f"<!--{node.data}-->")
-                    typed.append("!--")
-            elif node.tag == "br":
-                parts.append("\n")
-            elif literal and node.tag not in CODE_FORMATTING:
-                typed.append(node.tag)
-                inner = self._code_text(node.children, literal, typed)
-                end = "" if node.tag in VOID else f"</{node.tag}>"
-                parts.append(node.raw_start + inner + end)
-            else:
-                parts.append(self._code_text(node.children, literal, typed))
-        return "".join(parts)
-
-    def highlighter(self, el: Element) -> str | None:
-        """A pasted, already-rendered SyntaxHighlighter table -> the code it shows."""
-        names = [c for c in el.classes() if c not in ("syntaxhighlighter", "nogutter", "collapsed", "ie")]
-        lang = mdtext.brush_language(names[0])[0] if names else ""
-        cells = [td for td in el.find_all("td") if "code" in td.classes()]
-        if not cells:
-            return None
-        lines = [d for d in cells[0].walk() if isinstance(d, Element) and "line" in d.classes()]
-        if not lines:
-            return None
-        code = "\n".join(d.text() for d in lines)
-        self.hooks.warn("rendered SyntaxHighlighter table turned back into a code block "
-                        "(line numbers dropped)", el.line)
-        return self._code_block(code, lang, el.line)
+    def _code(self, code: str, lang: str, line: int) -> str:
+        if self._nested and lang and code.strip():
+            self.hooks.warn(f"code block inside a list or quote: language {lang!r} not kept", line)
+        return code_block(code, lang, nested=bool(self._nested))
 
     # -- tables -------------------------------------------------------------------------
     def table(self, el: Element) -> str:
@@ -369,131 +272,3 @@ class Converter:
     @staticmethod
     def _cell_nodes(cell: Element) -> list[Node]:
         return [n for c in cell.children for n in (c.children if isinstance(c, Element) and c.tag == "p" else [c])]
-
-    # -- raw HTML -----------------------------------------------------------------------
-    def raw(self, el: Element) -> str:
-        html = to_html(el, self._rewrite_attr).strip()
-        if "<pre" not in html and "<textarea" not in html:
-            html = re.sub(r"\n[ \t]*(?=\n)", "", html)  # a blank line would end the HTML block
-        return html
-
-    def _rewrite_attr(self, el: Element, name: str, value: str) -> str | None:
-        if name in ("src", "href", "poster") or (name == "data" and el.tag == "object"):
-            value = value.strip()
-            if value.startswith("data:") and el.tag == "img":
-                return self.hooks.data_image(value, el)
-            if value and not value.lower().startswith(("data:", "javascript:")):
-                return self.hooks.url(value, el, name)
-        return value
-
-    # -- inline -------------------------------------------------------------------------
-    def inline(self, nodes: list[Node], single_line: bool = False) -> str:
-        parts: list[str] = []
-        for node in _merge_adjacent(nodes):
-            if isinstance(node, Text):
-                text = mdtext.escape_text(mdtext.collapse_ws(node.data))
-                parts.append(text.replace("|", "\\|") if self._in_table else text)
-            elif isinstance(node, Element):
-                parts.append(self.inline_element(node, single_line))
-        return "".join(parts)
-
-    def inline_element(self, el: Element, single_line: bool) -> str:
-        tag = el.tag
-        if tag == "br":
-            return "<br />" if single_line else "<br />\n"
-        if tag in EMPHASIS:
-            return self._wrap(el, EMPHASIS[tag], single_line)
-        if tag in CODE:
-            return mdtext.code_span(el.text())
-        if tag == "a":
-            return self.link(el, single_line)
-        if tag == "img":
-            return self.image(el)
-        if tag == "span" or tag == "font":
-            return self._span(el, single_line)
-        if tag in WRAP:
-            inner = self.inline(el.children, single_line)
-            return f"<{WRAP[tag]}>{inner}</{WRAP[tag]}>" if inner.strip() else inner
-        if tag in RAW:
-            html = self.raw(el)
-            return re.sub(r"\s*\n\s*", " ", html) if tag not in ("textarea",) else html
-        if tag == "pre" or tag in BLOCKS:
-            inner = self.inline(el.children, single_line)
-            sep = "<br />" if single_line else "<br />\n"
-            return f"{sep}{inner.strip()}{sep}" if inner.strip() else ""
-        if tag not in SILENT_UNWRAP:
-            self.hooks.warn(f"unknown element <{tag}> unwrapped, its text kept", el.line)
-        return self.inline(el.children, single_line)
-
-    def _wrap(self, el: Element, marker: str, single_line: bool) -> str:
-        self._count_styles(el)
-        if self._emphasis[marker]:
-            return self.inline(el.children, single_line)
-        self._emphasis[marker] += 1
-        try:
-            inner = self.inline(el.children, single_line)
-        finally:
-            self._emphasis[marker] -= 1
-        core = inner.strip(" \n")
-        if not core or not re.sub(r"<br />|&nbsp;|\s", "", core):
-            return inner
-        lead = inner[: len(inner) - len(inner.lstrip(" \n"))]
-        trail = inner[len(inner.rstrip(" \n")):]
-        return f"{lead}{marker}{core}{marker}{trail}"
-
-    def _span(self, el: Element, single_line: bool) -> str:
-        decls = _style(el.attrs.get("style", ""))
-        if el.tag == "font":
-            if el.attrs.get("color"):
-                decls.append(("color", el.attrs["color"]))
-            if el.attrs.get("size"):
-                self.dropped_styles["font size"] += 1
-        keep = [(p, v) for p, v in decls if p in KEEP_SPAN_STYLE]
-        for p, _ in decls:
-            if p not in KEEP_SPAN_STYLE:
-                self.dropped_styles[p] += 1
-        inner = self.inline(el.children, single_line)
-        if not keep or not inner.strip():
-            return inner
-        style = "; ".join(f"{p}: {v}" for p, v in keep) + ";"
-        start = to_html(Element("span", {"style": style}))[: -len("</span>")]
-        return f"{start}{inner}</span>"
-
-    def link(self, el: Element, single_line: bool) -> str:
-        href = el.attrs.get("href", "").strip()
-        inner = self.inline(el.children, single_line=True)
-        anchor = el.attrs.get("id") or el.attrs.get("name")
-        prefix = to_html(Element("a", {"id": anchor})) if anchor else ""
-        if not href:
-            return prefix + inner
-        if href.lower().startswith("javascript:"):
-            self.hooks.warn(f"javascript: link not carried over ({href[:40]})", el.line)
-            return prefix + inner
-        url = self.hooks.url(href, el, "href")
-        if self._in_table:
-            url = url.replace("|", "%7C")
-        plain = mdtext.collapse_ws(el.text()).strip()
-        if (plain == href == url and len(el.children) == 1 and isinstance(el.children[0], Text)
-                and re.fullmatch(r"https?://[^\s<>|]+", href) and not el.attrs.get("title")):
-            return f"{prefix}<{href}>"
-        core = inner.strip(" ")
-        lead = " " if inner.startswith(" ") else ""
-        trail = " " if inner.endswith(" ") else ""
-        title = mdtext.link_title(mdtext.collapse_ws(el.attrs.get("title", "")).strip())
-        return f"{prefix}{lead}[{core}]({mdtext.link_destination(url)}{title}){trail}"
-
-    def image(self, el: Element) -> str:
-        src = el.attrs.get("src", "").strip()
-        if not src:
-            self.hooks.warn("<img> without src dropped", el.line)
-            return ""
-        new = self.hooks.data_image(src, el) if src.startswith("data:") else self.hooks.url(src, el, "src")
-        if new is None:
-            return ""
-        alt = el.attrs.get("alt", "")
-        title = el.attrs.get("title", "")
-        extra = {k: el.attrs[k] for k in ("width", "height", "style") if el.attrs.get(k, "").strip()}
-        if extra:
-            attrs = {"src": new, "alt": alt, **({"title": title} if title else {}), **extra}
-            return to_html(Element("img", attrs))
-        return f"![{mdtext.escape_alt(alt)}]({mdtext.link_destination(new)}{mdtext.link_title(title)})"

@@ -13,7 +13,6 @@ import re
 #: Characters Python-Markdown lets a backslash escape.
 ESCAPABLE = frozenset("\\`*_{}[]()>#+-.!")
 _ENTITY = re.compile(r"&(#\d+|#[xX][0-9a-fA-F]+|[A-Za-z][A-Za-z0-9]*);")
-_WORD = re.compile(r"\w")
 _NBSP = "\xa0"
 
 
@@ -39,7 +38,7 @@ def escape_text(text: str) -> str:
             out.append("\\" + ch)
         elif ch == "_":
             prev = text[i - 1] if i else ""
-            inner = bool(prev and nxt and _WORD.match(prev) and _WORD.match(nxt))
+            inner = prev.isalnum() and nxt.isalnum()
             out.append("_" if inner else "\\_")
         elif ch == "<":
             out.append("&lt;")
