@@ -1,0 +1,392 @@
+"""The legacy remote API functions: connection, simulation control, objects, joints, sensors.
+
+Signatures and return shapes are those of CoppeliaSim 4.2's ``sim.py``; see ``execute`` for
+how operation modes and return codes behave. Signals, parameters and helpers are in ``extras``.
+"""
+
+from __future__ import annotations
+
+from . import commands as cmd
+from .client import current_session
+from .execute import (
+    INIT,
+    OK,
+    REMOTE,
+    execute,
+    f32,
+    f32s,
+    float_arg,
+    flush_queued,
+    int_arg,
+    lookup,
+    str_arg,
+)
+
+_Z3 = (0.0, 0.0, 0.0)
+
+
+# --- connection --------------------------------------------------------------------------------
+def simxStart(connectionAddress, connectionPort, waitUntilConnected, doNotReconnectOnceDisconnected,
+              timeOutInMs, commThreadCycleInMs):
+    """Open a connection slot (no socket is opened: the address is only recorded).
+
+    Returns the first free client ID (0 for the first), or -1 when no scene is configured."""
+    address = str_arg(connectionAddress, 1)
+    port = int_arg(connectionPort, 2)
+    session = current_session()
+    if session is None or session.simulator is None:
+        if session is not None:
+            session.warn_once("no-scene", "simxStart: no scene is configured")
+        else:
+            import sys
+
+            print("[sim] simxStart: no scene is configured: run the script with "
+                  "`sitegen remote-api run SCRIPT --scene 2w1a|cart` "
+                  "(or set SITEGEN_REMOTE_API_SCENE)", file=sys.stderr)
+        return -1
+    cid = session.connect(address, port, wait=bool(waitUntilConnected),
+                          no_reconnect=bool(doNotReconnectOnceDisconnected),
+                          timeout_ms=timeOutInMs, cycle_ms=commThreadCycleInMs)
+    if cid >= 0:
+        session.simulator.call(blocking=True)
+    return cid
+
+
+def simxFinish(clientID):
+    """End one connection, or every connection with -1."""
+    session = current_session()
+    if session is not None:
+        session.finish(int_arg(clientID, 1))
+
+
+def simxGetConnectionId(clientID):
+    found = lookup(clientID)
+    return -1 if found is None else found[1].connection_id
+
+
+def simxGetPingTime(clientID):
+    found = lookup(clientID)
+    if found is None:
+        return INIT, 0
+    session, client = found
+    seconds = session.simulator.call(blocking=True)
+    client.last_cmd_time = session.simulator.sim_time
+    return OK, int(round(seconds * 1000))
+
+
+def simxGetLastCmdTime(clientID):
+    """Simulation time (ms) of the last reply fetched on this connection."""
+    found = lookup(clientID)
+    return 0 if found is None else int(round(found[1].last_cmd_time * 1000))
+
+
+def simxSynchronous(clientID, enable):
+    found = lookup(clientID)
+    if found is None:
+        return INIT
+    session, _client = found
+    sim = session.simulator
+    sim.call(blocking=True)
+    if not sim.can_control():
+        session.warn_once("temporary-sync", "simxSynchronous: a temporary remote API server "
+                          "(started by a child script) has no synchronous mode (remote error)")
+        return REMOTE
+    sim.sync()
+    sim.synchronous = bool(enable)
+    return OK
+
+
+def simxSynchronousTrigger(clientID):
+    found = lookup(clientID)
+    if found is None:
+        return INIT
+    session, _client = found
+    sim = session.simulator
+    if not sim.synchronous:
+        sim.call(blocking=True)
+        return REMOTE
+    sim.trigger()
+    sim.call(blocking=True)
+    _client.last_cmd_time = sim.sim_time
+    return OK
+
+
+def simxPauseCommunication(clientID, enable):
+    found = lookup(clientID)
+    if found is None:
+        return INIT
+    session, client = found
+    with session.lock:
+        if client.paused and not enable:
+            session.simulator.call(blocking=False)
+            flush_queued(session, client)
+        client.paused = bool(enable)
+    return OK
+
+
+def _message_info(clientID, infoType, outgoing: bool):
+    found = lookup(clientID)
+    if found is None:
+        return -1, 0
+    session, client = found
+    sim = session.simulator
+    info_type = int_arg(infoType, 2)
+    now_ms = int(sim.clock.now() * 1000)
+    values = {0: 0, 2: 2, 3: client.calls, 7: now_ms}
+    if not outgoing:
+        state = 0 if sim.state == "stopped" else (1 | (2 if sim.state == "paused" else 0))
+        if sim.clock.realtime:
+            state |= 4
+        values.update({11: int(sim.sim_time * 1000), 15: 1, 17: state})
+    if info_type not in values:
+        return -1, 0
+    return 1, values[info_type]
+
+
+def simxGetInMessageInfo(clientID, infoType):
+    """(1, value) or (-1, 0); ``simx_headeroffset_server_state``: bit 0 = simulation not
+    stopped, bit 1 = paused, bit 2 = real-time."""
+    return _message_info(clientID, infoType, outgoing=False)
+
+
+def simxGetOutMessageInfo(clientID, infoType):
+    return _message_info(clientID, infoType, outgoing=True)
+
+
+# --- simulation ----------------------------------------------------------------------------------
+def _control(clientID, operationMode, what: str):
+    found = lookup(clientID)
+
+    def run(world):
+        session, _ = found
+        sim = session.simulator
+        if not sim.can_control():
+            session.warn_once("temporary-control", f"simx{what.capitalize()}Simulation: this "
+                              "scene's remote API server is a temporary one (started by a child "
+                              "script): it cannot start, pause or stop simulations (remote error). "
+                              "Run with --server continuous to allow it.")
+            raise cmd.CommandError(f"a temporary server cannot {what} the simulation")
+        getattr(sim, what)()
+        return ()
+
+    return execute(clientID, operationMode, ("simulation", what), run, (), setter=True)[0]
+
+
+def simxStartSimulation(clientID, operationMode):
+    return _control(clientID, operationMode, "start")
+
+
+def simxPauseSimulation(clientID, operationMode):
+    return _control(clientID, operationMode, "pause")
+
+
+def simxStopSimulation(clientID, operationMode):
+    """Stop the simulation; the scene returns to its initial state (as CoppeliaSim restores it)."""
+    return _control(clientID, operationMode, "stop")
+
+
+def simxAddStatusbarMessage(clientID, message, operationMode):
+    text = str_arg(message, 2)
+    found = lookup(clientID)
+
+    def run(world):
+        session = found[0]
+        session.simulator.statusbar.append(text)
+        session.status(text)
+        return ()
+
+    return execute(clientID, operationMode, ("statusbar",), run, (), setter=True)[0]
+
+
+def simxGetLastErrors(clientID, operationMode):
+    found = lookup(clientID)
+
+    def run(world):
+        errors = list(found[0].simulator.errors)
+        found[0].simulator.errors.clear()
+        return (errors,)
+
+    code, out = execute(clientID, operationMode, ("errors",), run, ([],))
+    return code, out[0]
+
+
+# --- objects -------------------------------------------------------------------------------------
+def simxGetObjectHandle(clientID, objectName, operationMode):
+    name = str_arg(objectName, 2)
+
+    def run(world):
+        h = cmd.resolve_name(world, name)
+        if h is None:
+            raise cmd.CommandError(f"object {name!r} does not exist")
+        return (h,)
+
+    code, out = execute(clientID, operationMode, ("handle", name), run, (0,))
+    return code, out[0]
+
+
+def simxGetObjects(clientID, objectType, operationMode):
+    kind = int_arg(objectType, 2)
+    code, out = execute(clientID, operationMode, ("objects", kind),
+                        lambda w: (cmd.objects(w, kind),), ([],))
+    return code, list(out[0])
+
+
+def simxGetObjectParent(clientID, childObjectHandle, operationMode):
+    h = int_arg(childObjectHandle, 2)
+    code, out = execute(clientID, operationMode, ("parent", h), lambda w: (cmd.parent(w, h),), (0,))
+    return code, out[0]
+
+
+def simxGetObjectChild(clientID, parentObjectHandle, childIndex, operationMode):
+    h, i = int_arg(parentObjectHandle, 2), int_arg(childIndex, 3)
+
+    def run(world):
+        kids = cmd.children(world, h)
+        return (kids[i] if 0 <= i < len(kids) else -1,)
+
+    code, out = execute(clientID, operationMode, ("child", h, i), run, (0,))
+    return code, out[0]
+
+
+def _getter3(clientID, handle, relative, operationMode, what: str, fn, n: int = 3):
+    h, rel = int_arg(handle, 2), int_arg(relative, 3)
+    code, out = execute(clientID, operationMode, (what, h, rel),
+                        lambda w: (f32s(fn(w, h, rel)),), ([0.0] * n,))
+    return code, list(out[0])
+
+
+def simxGetObjectPosition(clientID, objectHandle, relativeToObjectHandle, operationMode):
+    return _getter3(clientID, objectHandle, relativeToObjectHandle, operationMode, "position",
+                    cmd.position)
+
+
+def simxGetObjectOrientation(clientID, objectHandle, relativeToObjectHandle, operationMode):
+    """Euler angles (alpha, beta, gamma) in radians: R = Rx(alpha) Ry(beta) Rz(gamma)."""
+    return _getter3(clientID, objectHandle, relativeToObjectHandle, operationMode, "orientation",
+                    cmd.orientation)
+
+
+def simxGetObjectQuaternion(clientID, objectHandle, relativeToObjectHandle, operationMode):
+    return _getter3(clientID, objectHandle, relativeToObjectHandle, operationMode, "quaternion",
+                    cmd.quaternion, 4)
+
+
+def _setter_frame(clientID, objectHandle, relative, values, n, operationMode, what, convert):
+    h, rel = int_arg(objectHandle, 2), int_arg(relative, 3)
+    vals = [float_arg(v, 4) for v in values]
+    if len(vals) < n:
+        raise IndexError("invalid index")
+    vals = vals[:n]
+
+    def run(world):
+        pos, quat = convert(vals)
+        cmd.set_frame(world, h, rel, pos, quat)
+        return ()
+
+    return execute(clientID, operationMode, (what, h, rel), run, (), setter=True)[0]
+
+
+def simxSetObjectPosition(clientID, objectHandle, relativeToObjectHandle, position, operationMode):
+    """Move a model's base object (other objects: remote error)."""
+    return _setter_frame(clientID, objectHandle, relativeToObjectHandle, position, 3, operationMode,
+                         "set_position", lambda v: (tuple(v), None))
+
+
+def simxSetObjectOrientation(clientID, objectHandle, relativeToObjectHandle, eulerAngles,
+                             operationMode):
+    from .geometry import euler_to_quat
+
+    return _setter_frame(clientID, objectHandle, relativeToObjectHandle, eulerAngles, 3,
+                         operationMode, "set_orientation", lambda v: (None, euler_to_quat(tuple(v))))
+
+
+def simxSetObjectQuaternion(clientID, objectHandle, relativeToObjectHandle, quaternion,
+                            operationMode):
+    return _setter_frame(clientID, objectHandle, relativeToObjectHandle, quaternion, 4,
+                         operationMode, "set_quaternion", lambda v: (None, tuple(v)))
+
+
+def simxGetObjectVelocity(clientID, objectHandle, operationMode):
+    h = int_arg(objectHandle, 2)
+
+    def run(world):
+        lin, ang = cmd.velocity(world, h)
+        return f32s(lin), f32s(ang)
+
+    code, out = execute(clientID, operationMode, ("velocity", h), run, ([0.0] * 3, [0.0] * 3))
+    return code, list(out[0]), list(out[1])
+
+
+# --- joints --------------------------------------------------------------------------------------
+def _joint_float(clientID, jointHandle, operationMode, what, fn):
+    h = int_arg(jointHandle, 2)
+    code, out = execute(clientID, operationMode, (what, h), lambda w: (f32(fn(w, h)),), (0.0,))
+    return code, out[0]
+
+
+def _joint_set(clientID, jointHandle, value, operationMode, what, fn):
+    h, v = int_arg(jointHandle, 2), float_arg(value, 3)
+
+    def run(world):
+        fn(world, h, f32(v))
+        return ()
+
+    return execute(clientID, operationMode, (what, h), run, (), setter=True)[0]
+
+
+def simxGetJointPosition(clientID, jointHandle, operationMode):
+    """Joint angle in radians, in CoppeliaSim's convention for that joint."""
+    return _joint_float(clientID, jointHandle, operationMode, "joint_position", cmd.joint_position)
+
+
+def simxGetJointForce(clientID, jointHandle, operationMode):
+    return _joint_float(clientID, jointHandle, operationMode, "joint_force", cmd.joint_force)
+
+
+simxJointGetForce = simxGetJointForce
+
+
+def simxGetJointMaxForce(clientID, jointHandle, operationMode):
+    return _joint_float(clientID, jointHandle, operationMode, "joint_max_force", cmd.joint_max_force)
+
+
+def simxSetJointTargetPosition(clientID, jointHandle, targetPosition, operationMode):
+    return _joint_set(clientID, jointHandle, targetPosition, operationMode, "joint_target_position",
+                      cmd.set_joint_target_position)
+
+
+def simxSetJointTargetVelocity(clientID, jointHandle, targetVelocity, operationMode):
+    return _joint_set(clientID, jointHandle, targetVelocity, operationMode, "joint_target_velocity",
+                      cmd.set_joint_target_velocity)
+
+
+def simxSetJointPosition(clientID, jointHandle, position, operationMode):
+    return _joint_set(clientID, jointHandle, position, operationMode, "joint_position_set",
+                      cmd.set_joint_position)
+
+
+# --- sensors -------------------------------------------------------------------------------------
+def simxReadProximitySensor(clientID, sensorHandle, operationMode):
+    """(code, detectionState, detectedPoint, detectedObjectHandle, detectedSurfaceNormalVector);
+    the point and normal are in the sensor's frame (z = sensing direction)."""
+    h = int_arg(sensorHandle, 2)
+
+    def run(world):
+        detected, point, obj, normal = cmd.read_proximity_sensor(world, h)
+        return detected, f32s(point), obj, f32s(normal)
+
+    code, out = execute(clientID, operationMode, ("proximity", h), run,
+                        (False, list(_Z3), 0, list(_Z3)))
+    return code, bool(out[0]), list(out[1]), out[2], list(out[3])
+
+
+def simxGetObjectGroupData(clientID, objectType, dataType, operationMode):
+    kind, data = int_arg(objectType, 2), int_arg(dataType, 3)
+
+    def run(world):
+        handles, ints, floats, strings = cmd.group_data(world, kind, data)
+        return handles, ints, f32s(floats), strings
+
+    code, out = execute(clientID, operationMode, ("group", kind, data), run, ([], [], [], []))
+    return code, list(out[0]), list(out[1]), list(out[2]), list(out[3])
+

@@ -1,0 +1,301 @@
+"""Run a course script unchanged against a pybullet scene: ``import sim`` resolves to the emulation.
+
+``run_script`` executes the script with runpy as ``__main__`` (its directory on ``sys.path``,
+after the shim directory that provides ``sim``/``vrep``/``simConst``/``vrepConst``), on a virtual
+clock by default: ``time.sleep`` lets simulated time pass at once, so a script that sleeps 80 s
+finishes in seconds. Python's ``random`` is seeded (``random.seed()`` without an argument in the
+script reuses that seed), so a run is reproducible. Sockets cannot connect during the run.
+
+Outcome: a ``RunResult`` with the exit code, a one-line message for errors/time-outs naming the
+script line, simulated/wall/virtual seconds, the addresses the script asked for (recorded, never
+contacted) and a per-pass trace of the robot's pose.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import math
+import random
+import runpy
+import socket
+import sys
+import threading
+import traceback
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .client import Connection, Session, set_session
+from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
+
+SHIM_DIR = Path(__file__).resolve().parent / "shim"
+SHIM_MODULES = ("sim", "vrep", "simConst", "vrepConst")
+DEFAULT_TIMEOUT = 300.0
+
+
+@dataclass
+class Sample:
+    """The robot body at the end of one simulation pass."""
+
+    clock: float  # script clock (s)
+    sim_time: float  # simulation time of the current simulation (s)
+    run: int  # 1 for the first simulation, 2 after the first restart...
+    x: float
+    y: float
+    z: float
+    heading: float  # rad
+
+
+@dataclass
+class RunResult:
+    script: str
+    scene: str
+    exit_code: int
+    message: str | None = None
+    message_printed: bool = False  # sys.exit("text") printed its text already
+    timed_out: bool = False
+    sim_time: float = 0.0  # simulated seconds run, over all simulations
+    wall_time: float = 0.0
+    clock_time: float = 0.0  # the script's clock at the end (virtual or wall)
+    connections: list[Connection] = field(default_factory=list)
+    statusbar: list[str] = field(default_factory=list)
+    samples: list[Sample] = field(default_factory=list)
+    simulations: int = 0
+    final_state: str = "stopped"  # the simulation's state when the run ended
+
+    @property
+    def ok(self) -> bool:
+        return self.exit_code == 0
+
+    def summary(self) -> str:
+        speed = self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
+        addresses = ", ".join(sorted({f"{c.address}:{c.port}" for c in self.connections})) or "none"
+        return (f"{self.script}: exit {self.exit_code}; simulated {self.sim_time:.2f} s in "
+                f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
+                f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
+                f"contacted): {addresses}")
+
+
+class _Watchdog:
+    """Stops the script thread once ``limit`` wall seconds pass (re-raising until it ends)."""
+
+    def __init__(self, limit: float | None, thread_id: int):
+        self.limit = limit
+        self.thread_id = thread_id
+        self.fired = False
+        self._done = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def _raise(self, exc: Any) -> None:
+        ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(self.thread_id),
+                                                   ctypes.py_object(exc) if exc else None)
+
+    def _watch(self) -> None:
+        if self._done.wait(self.limit):
+            return
+        while not self._done.is_set():
+            self.fired = True
+            self._raise(ScriptTimeout)
+            self._done.wait(0.5)
+
+    def __enter__(self) -> _Watchdog:
+        if self.limit is not None and math.isfinite(self.limit):
+            self._thread = threading.Thread(target=self._watch, name="remote-api-watchdog",
+                                            daemon=True)
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._done.set()
+        if self._thread is not None:
+            self._thread.join()
+            if self.fired:
+                self._raise(None)  # drop an exception not yet delivered
+
+
+@contextlib.contextmanager
+def _script_environment(path: Path, argv: Sequence[str], seed: int | None) -> Iterator[None]:
+    saved_path, saved_argv = list(sys.path), list(sys.argv)
+    saved_modules = {name: sys.modules.pop(name) for name in SHIM_MODULES if name in sys.modules}
+    before = set(sys.modules)
+    saved_random = random.getstate()
+    real_seed = random.seed
+    sys.path[:0] = [str(SHIM_DIR), str(path.parent)]
+    sys.argv = [str(path), *argv]
+    if seed is not None:
+        real_seed(seed)
+
+        def seeded(a: Any = None, version: int = 2) -> None:
+            real_seed(seed if a is None else a, version)
+
+        random.seed = seeded
+    try:
+        yield
+    finally:
+        random.seed = real_seed
+        random.setstate(saved_random)
+        sys.path[:], sys.argv[:] = saved_path, saved_argv
+        for name in set(sys.modules) - before:
+            module_file = getattr(sys.modules[name], "__file__", None) or ""
+            ours = name.split(".")[0] in ("sims", "sitegen", "roster")
+            if name in SHIM_MODULES or (not ours and _inside(module_file, (path.parent,))):
+                del sys.modules[name]
+        sys.modules.update(saved_modules)
+
+
+def _inside(file: str, folders: Sequence[Path]) -> bool:
+    if not file:
+        return False
+    p = Path(file).resolve()
+    return any(folder == p.parent or folder in p.parents for folder in folders)
+
+
+@contextlib.contextmanager
+def no_network(thread_id: int) -> Iterator[None]:
+    """Sockets created by the script's thread cannot connect or send anywhere."""
+    cls = socket.socket
+    names = ("connect", "connect_ex", "sendto") if isinstance(cls, type) else ()
+    saved = {name: getattr(cls, name) for name in names if hasattr(cls, name)}
+
+    def guard(name: str):
+        original = saved[name]
+
+        def method(self, *args: Any, **kwargs: Any):
+            if threading.get_ident() == thread_id:
+                raise OSError(f"socket.{name}: network access is disabled while a script runs "
+                              "under the sitegen remote API emulation")
+            return original(self, *args, **kwargs)
+
+        return method
+
+    for name in saved:
+        setattr(cls, name, guard(name))
+    try:
+        yield
+    finally:
+        for name, fn in saved.items():
+            setattr(cls, name, fn)
+
+
+def _script_line(exc: BaseException, path: Path) -> int | None:
+    if isinstance(exc, SyntaxError) and exc.filename and Path(exc.filename).resolve() == path:
+        return exc.lineno
+    line = None
+    for frame in traceback.extract_tb(exc.__traceback__):
+        if frame.filename and Path(frame.filename).resolve() == path:
+            line = frame.lineno
+    return line
+
+
+def _where(label: str, line: int | None) -> str:
+    return f"{label}:{line}" if line is not None else label
+
+
+def run_script(
+    script: str | Path,
+    scene: str,
+    *,
+    seed: int | None = 0,
+    server: str | None = None,
+    realtime: bool = False,
+    after: float = 0.0,
+    timeout: float | None = DEFAULT_TIMEOUT,
+    argv: Sequence[str] = (),
+    world: Any = None,
+    scene_options: dict[str, Any] | None = None,
+    network: bool = False,
+    stderr: Any = None,
+    on_pass: Callable[[Any], None] | None = None,
+    trace: bool = True,
+) -> RunResult:
+    """Run ``script`` against ``scene``; see the module docstring. ``world``: drive this World
+    (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass."""
+    label = str(script)
+    path = Path(script).resolve()
+    err = stderr or sys.stderr
+    result = RunResult(label, scene, exit_code=0)
+    if not path.is_file():
+        result.exit_code, result.message = 2, f"{label}: no such script file"
+        return result
+    clock: Clock = WallClock(timeout) if realtime else VirtualClock(timeout)
+    factory = (lambda *a, **k: world) if world is not None else None
+    session = Session(scene, seed=seed or 0, server=server, clock=clock,
+                      scene_options=scene_options, world_factory=factory, stderr=err)
+    sim = session.simulator
+    if trace:
+        sim.pass_observers.append(lambda s: result.samples.append(_sample(s)))
+    if on_pass is not None:
+        sim.pass_observers.append(on_pass)
+    previous = set_session(session)
+    tid = threading.get_ident()
+    started = real_monotonic()
+    try:
+        with contextlib.ExitStack() as stack:
+            stack.enter_context(_script_environment(path, argv, seed))
+            stack.enter_context(patch_time(clock, tid))
+            if not network:
+                stack.enter_context(no_network(tid))
+            _execute(path, label, clock, timeout, result, err)
+            clock.limit = None
+            if after > 0 and sim.world is not None:
+                clock.advance(after)
+    finally:
+        set_session(previous)
+        result.wall_time = real_monotonic() - started
+        result.clock_time = clock.now()
+        result.sim_time = sim.passes * sim.pass_dt
+        result.simulations = sim.starts
+        result.final_state = sim.state
+        result.connections = list(session.connections)
+        result.statusbar = list(sim.statusbar)
+        session.clients.clear()
+        if world is None:
+            session.close()
+    return result
+
+
+def _execute(path: Path, label: str, clock: Clock, timeout: float | None, result: RunResult,
+             err: Any) -> None:
+    try:
+        with _Watchdog(timeout, threading.get_ident()):
+            runpy.run_path(str(path), run_name="__main__")
+    except SystemExit as exc:
+        code = exc.code
+        if code is None:
+            result.exit_code = 0
+        elif isinstance(code, int):
+            result.exit_code = code
+        else:
+            print(code, file=err, flush=True)
+            result.exit_code, result.message, result.message_printed = 1, str(code), True
+    except ScriptTimeout as exc:
+        kind = "simulated" if clock.timed_out else "wall-clock"
+        result.timed_out = True
+        result.exit_code = 124
+        result.message = (f"{_where(label, _script_line(exc, path))}: stopped: the script ran past "
+                          f"its time limit of {timeout:g} s ({kind} time)")
+    except KeyboardInterrupt as exc:
+        result.exit_code = 130
+        result.message = f"{_where(label, _script_line(exc, path))}: interrupted"
+    except BaseException as exc:  # the script's own error: one line, naming its line
+        if _is_recording_stop(exc):
+            raise
+        text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        result.exit_code = 1
+        result.message = (f"{_where(label, _script_line(exc, path))}: {type(exc).__name__}"
+                          + (f": {text}" if text else ""))
+
+
+def _is_recording_stop(exc: BaseException) -> bool:
+    """The clip recorder ends a run with its own BaseException: let it through."""
+    return type(exc).__module__ == "sims.recording"
+
+
+def _sample(sim: Any) -> Sample:
+    world = sim.world
+    robot = world.model.robot
+    (x, y, z), _ = world.object_pose(robot)
+    return Sample(sim.clock.now(), world.time, sim.starts, x, y, z, world.heading(robot))
+
