@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import hashlib
 from html import escape
-from pathlib import PurePosixPath
+from pathlib import Path, PurePosixPath
 
 from roster import RosterError, diff, load_roster
 from roster.emit import to_html, to_json
@@ -59,12 +59,12 @@ class RosterIntegration(Integration):
             try:
                 result = load_roster(rc.file, corrections=rc.corrections, course_repo=self.config.course_repo)
             except RosterError as exc:
-                diags.error(exc.file, exc.line or None, exc.field, exc.message)
+                diags.error(self._rel(Path(exc.file)), exc.line or None, exc.field, exc.message)
                 continue
             for d in result.diagnostics:
                 if d.severity in ("error", "warning"):
                     add = diags.error if d.severity == "error" else diags.warning
-                    add(d.file, d.line or None, d.field, d.message)
+                    add(self._rel(Path(d.file)), d.line or None, d.field, d.message)
             if result.ok:
                 self.results[rc.name] = result
 

@@ -1,0 +1,221 @@
+"""Raw (pre-correction) roster records and the field cleaning every input format shares.
+
+Parsers for TSV, CSV and YAML differ only in how they find fields; what a field
+*means* -- a student id possibly followed by a hand-written mark like `*` or
+`(dropped)`, an account that may be missing -- is decided here once, so the
+three formats tolerate and report exactly the same things.
+
+Raw records are mutable on purpose: corrections rewrite them in place and keep
+the original text for reporting. `load.py` freezes them into `model` objects.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from .links import is_safe
+from .model import Diagnostic, Severity, quoted
+
+ID_RE = re.compile(r"[A-Za-z0-9]*[0-9][A-Za-z0-9]*")
+ID_MAX_LEN = 32
+MARK_SYMBOLS = "*?!#†‡✓✔✗×"
+_BRACKETS = {")": "(", "]": "[", "）": "（", "】": "【"}
+
+
+def is_student_id(value: str) -> bool:
+    """Letters and digits with at least one digit: what student ids look like everywhere we know."""
+    return len(value) <= ID_MAX_LEN and ID_RE.fullmatch(value) is not None
+
+
+def split_marks(raw: str) -> tuple[str, list[str]]:
+    """Separate a value from annotation marks written beside it.
+
+    `40823122*` -> ('40823122', ['*']); `40823122 (dropped)` -> ('40823122', ['(dropped)']);
+    `?40823122` -> ('40823122', ['?']). Marks are teacher's notes, not part of the id.
+    Callers only accept the split when what remains is a valid value, so
+    `javascript:alert(1)` is reported whole rather than as `javascript:alert` + `(1)`.
+    """
+    s = raw.strip()
+    lead: list[str] = []
+    while s and s[0] in MARK_SYMBOLS:
+        j = 0
+        while j < len(s) and s[j] in MARK_SYMBOLS:
+            j += 1
+        lead.append(s[:j])
+        s = s[j:].lstrip()
+    trail: list[str] = []
+    while s:
+        last = s[-1]
+        if last in MARK_SYMBOLS:
+            j = len(s)
+            while j > 0 and s[j - 1] in MARK_SYMBOLS:
+                j -= 1
+            trail.append(s[j:])
+            s = s[:j].rstrip()
+        elif last in _BRACKETS:
+            start = s.rfind(_BRACKETS[last])
+            if start < 0:
+                break
+            trail.append(s[start:])
+            s = s[:start].rstrip()
+        else:
+            break
+    return s, lead + trail[::-1]
+
+
+@dataclass(slots=True)
+class RawMember:
+    """A member as written, before corrections.
+
+    `account_given` is False when the account defaulted to the id. `notes` is a
+    tuple because the empty tuple is shared: 100k plain members cost no extra objects.
+    """
+
+    id: str
+    account: str
+    account_given: bool
+    notes: tuple[str, ...]
+    line: int
+    field: str
+    account_field: str
+    raw_account: str = ""
+    explained: bool = False  # an alias set or confirmed the account
+
+
+@dataclass(slots=True)
+class RawGroup:
+    """A group as written, before corrections."""
+
+    name: str
+    line: int
+    field: str
+    members: list[RawMember] = field(default_factory=list)
+    leader: str | None = None
+    leader_line: int = 0
+    leader_field: str = ""
+    leader_file: str = ""
+
+
+def describe_members(members: list[RawMember]) -> str:
+    """`40823101, 40823102 (account a40823102)`: every id and account, for messages about dropped groups."""
+    parts = [
+        m.id if m.account == m.id else f"{m.id} (account {quoted(m.account)})" for m in members
+    ]
+    return ", ".join(parts) or "none"
+
+
+class Collector:
+    """Gathers diagnostics for one file and aggregates the noisy, harmless ones."""
+
+    def __init__(self, file: str) -> None:
+        self.file = file
+        self.diagnostics: list[Diagnostic] = []
+        self._trimmed = 0
+        self._first_trim: tuple[int, str] | None = None
+
+    def add(self, severity: Severity, line: int, where: str, message: str) -> None:
+        self.diagnostics.append(Diagnostic(severity, self.file, line, where, message))
+
+    def error(self, line: int, where: str, message: str) -> None:
+        self.add("error", line, where, message)
+
+    def warning(self, line: int, where: str, message: str) -> None:
+        self.add("warning", line, where, message)
+
+    def info(self, line: int, where: str, message: str) -> None:
+        self.add("info", line, where, message)
+
+    def trimmed(self, line: int, where: str) -> None:
+        """Count a value that had spaces around it (reported once per file, not per field)."""
+        self._trimmed += 1
+        if self._first_trim is None:
+            self._first_trim = (line, where)
+
+    def finish(self) -> list[Diagnostic]:
+        """All diagnostics, with the aggregated ones added."""
+        if self._first_trim is not None:
+            line, where = self._first_trim
+            self.info(
+                line, where, f"spaces around {self._trimmed} value(s) trimmed (first one here)"
+            )
+            self._first_trim = None
+        return self.diagnostics
+
+
+def make_member(
+    c: Collector,
+    id_raw: str,
+    account_raw: str | None,
+    line: int,
+    id_field: str,
+    account_field: str,
+    missing_account: str | None = "no account given",
+) -> RawMember | None:
+    """Clean one (id, account) slot into a RawMember, reporting marks, defaults and bad ids.
+
+    Returns None (with an error that quotes every value of the slot, so no id is
+    lost silently) when the id is not an id. The caller handles fully empty slots.
+    `missing_account` names the situation in the "account defaults to the id"
+    warning; None suppresses it (the caller reported it once already).
+    """
+    if id_raw != id_raw.strip():
+        c.trimmed(line, id_field)
+    if account_raw is not None and account_raw != account_raw.strip():
+        c.trimmed(line, account_field)
+    sid, id_marks = split_marks(id_raw)
+    if sid and not is_student_id(sid):
+        sid, id_marks = id_raw.strip(), []  # not "id + mark": report the raw text as it is
+    account, account_marks = split_marks(account_raw or "")
+    if account and not is_safe(account):
+        account, account_marks = (account_raw or "").strip(), []
+    if not sid:
+        if account or account_marks:
+            c.error(
+                line,
+                id_field,
+                f"student id is empty but the account {quoted(account_raw or '')} is given"
+                + (f" (with {quoted(id_raw.strip())})" if id_raw.strip() else ""),
+            )
+        elif id_marks:
+            # Digits in a lone annotation may be a student id written oddly: never drop it quietly.
+            report = c.error if any(ch.isdigit() for ch in id_raw) else c.warning
+            report(
+                line,
+                id_field,
+                f"slot holds only the annotation {quoted(id_raw.strip())} and no student id",
+            )
+        return None
+    if not is_student_id(sid):
+        extra = (
+            f"; its account {quoted(account_raw)} is not used"
+            if account_raw and account_raw.strip()
+            else ""
+        )
+        c.error(
+            line,
+            id_field,
+            f"{quoted(id_raw.strip())} is not a student id (letters and digits, at least one digit){extra}",
+        )
+        return None
+    notes = tuple(id_marks + account_marks)
+    for marks, where in ((id_marks, id_field), (account_marks, account_field)):
+        for mark in marks:
+            c.warning(line, where, f"annotation {quoted(mark)} beside {sid} kept as a member note")
+    given = bool(account)
+    if not given:
+        if missing_account is not None:
+            c.warning(
+                line, account_field, f"{missing_account} for {sid}; the account defaults to the id"
+            )
+        account = sid
+    return RawMember(
+        id=sid,
+        account=account,
+        account_given=given,
+        notes=notes,
+        line=line,
+        field=id_field,
+        account_field=account_field,
+        raw_account=(account_raw or "").strip(),
+    )

@@ -1,0 +1,138 @@
+"""Reading a roster file into lines: encodings, byte-order marks, line endings.
+
+Rosters are typed by hand and exported from spreadsheets, so they arrive with a
+UTF-8 BOM, CRLF endings, or (from Excel's "Unicode text") as UTF-16. All of that
+is tolerated and reported as info; bytes that are not valid text are an error on
+the line where they occur, and the rest of the file is still read so no other
+line's students go unreported.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .model import Diagnostic, RosterError
+
+FORMATS = {".txt": "tsv", ".tsv": "tsv", ".csv": "csv", ".yml": "yaml", ".yaml": "yaml"}
+SEPARATORS = {"tsv": "\t", "csv": ",", "yaml": None}
+
+
+@dataclass
+class SourceText:
+    """A decoded file: its lines without line endings, plus what decoding noticed."""
+
+    file: str
+    lines: list[str]
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def text(self) -> str:
+        return "\n".join(self.lines)
+
+
+def detect_format(path: Path) -> str:
+    """Map a file extension to a roster format, or raise a RosterError saying what is accepted."""
+    fmt = FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        accepted = ", ".join(sorted(FORMATS))
+        raise RosterError(
+            str(path),
+            0,
+            "file",
+            f"unsupported roster file type {path.suffix or '(none)'!r}; use one of {accepted}",
+        )
+    return fmt
+
+
+def read_bytes(path: Path) -> bytes:
+    """Read a file, turning OS failures into RosterError (the only exception load_roster raises)."""
+    try:
+        return path.read_bytes()
+    except FileNotFoundError:
+        raise RosterError(str(path), 0, "file", "no such file") from None
+    except IsADirectoryError:
+        raise RosterError(str(path), 0, "file", "is a directory, not a roster file") from None
+    except OSError as exc:
+        raise RosterError(str(path), 0, "file", f"cannot read: {exc.strerror or exc}") from None
+
+
+def _decode_utf8_reporting(data: bytes, file: str, sep: str | None) -> tuple[str, list[Diagnostic]]:
+    """Decode UTF-8, replacing bad bytes with U+FFFD and reporting one error per affected line."""
+    try:
+        return data.decode("utf-8"), []
+    except UnicodeDecodeError:
+        pass
+    diags: list[Diagnostic] = []
+    pieces: list[str] = []
+    pos = 0
+    reported_lines: set[int] = set()
+    while True:
+        try:
+            pieces.append(data[pos:].decode("utf-8"))
+            break
+        except UnicodeDecodeError as exc:
+            bad = pos + exc.start
+            pieces.append(data[pos:bad].decode("utf-8"))
+            pieces.append("\ufffd")
+            line_start = data.rfind(b"\n", 0, bad) + 1
+            line = data.count(b"\n", 0, bad) + 1
+            if line not in reported_lines:
+                reported_lines.add(line)
+                if sep is not None:
+                    where = f"col {data.count(sep.encode(), line_start, bad) + 1}"
+                else:
+                    where = f"char {bad - line_start + 1}"
+                diags.append(
+                    Diagnostic(
+                        "error",
+                        file,
+                        line,
+                        where,
+                        f"undecodable byte 0x{data[bad]:02x} (file is not UTF-8; re-save it as UTF-8)",
+                    )
+                )
+            pos = pos + exc.end
+    return "".join(pieces), diags
+
+
+def decode(data: bytes, file: str, fmt: str) -> SourceText:
+    """Turn raw bytes into lines, reporting BOMs, UTF-16, CRLF and undecodable bytes."""
+    diags: list[Diagnostic] = []
+    sep = SEPARATORS.get(fmt)
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        try:
+            text = data.decode("utf-16")
+        except UnicodeDecodeError as exc:
+            diags.append(
+                Diagnostic("error", file, 1, "file", f"invalid UTF-16 text at byte {exc.start}")
+            )
+            text = data.decode("utf-16", errors="replace")
+        diags.append(
+            Diagnostic("info", file, 1, "file", "decoded as UTF-16 (byte-order mark found)")
+        )
+        text = text.lstrip("\ufeff")
+    else:
+        if data.startswith(b"\xef\xbb\xbf"):
+            data = data[3:]
+            diags.append(Diagnostic("info", file, 1, "file", "UTF-8 byte-order mark removed"))
+        text, bad = _decode_utf8_reporting(data, file, sep)
+        diags.extend(bad)
+    if "\n" not in text and "\r" in text:
+        diags.append(
+            Diagnostic("info", file, 1, "file", "old Mac line endings (CR) treated as line breaks")
+        )
+        text = text.replace("\r", "\n")
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()  # the final newline does not start another line
+    crlf = 0
+    for i, line in enumerate(lines):
+        if line.endswith("\r"):
+            lines[i] = line[:-1]
+            crlf += 1
+    if crlf:
+        diags.append(
+            Diagnostic("info", file, 1, "file", f"CRLF line endings normalised ({crlf} lines)")
+        )
+    return SourceText(file, lines, diags)

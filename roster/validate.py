@@ -1,0 +1,176 @@
+"""Checks on the corrected roster: what would publish wrong links or wrong groups.
+
+Errors are things that make the published roster wrong or unsafe (a student in
+two groups, duplicate group names, unsafe URL parts). Warnings are things that
+are probably typos but can be legitimate (an id unlike the others: a student
+repeating the course from an earlier year; an account GitHub would not accept
+today), so they are shown but do not block the site.
+"""
+
+from __future__ import annotations
+
+import re
+import unicodedata
+from collections import Counter
+
+from .links import github_username_problem, unsafe_reason
+from .model import quoted
+from .records import Collector, RawGroup, RawMember, is_student_id
+
+NAME_EXTRA_CHARS = " _-.+()"
+
+
+def slug_for(name: str) -> str:
+    """A group's URL slug: its name with runs of whitespace turned into `-` (as GitHub does for repo names)."""
+    return re.sub(r"\s+", "-", name.strip())
+
+
+def _name_problem(name: str) -> str | None:
+    """Why a group name is not acceptable, or None."""
+    if len(name) > 100:
+        return "is longer than 100 characters"
+    for ch in name:
+        if not (ch.isalnum() or ch in NAME_EXTRA_CHARS) or unicodedata.category(ch).startswith("C"):
+            return f"contains the forbidden character {quoted(ch)} (allowed: letters, digits, space, _ - . + ( ))"
+    return None
+
+
+def _majority(values: list[str]) -> str | None:
+    """The value more than half of `values` share, if any."""
+    if len(values) < 3:
+        return None
+    value, count = Counter(values).most_common(1)[0]
+    return value if count * 2 > len(values) else None
+
+
+def validate(groups: list[RawGroup], c: Collector, course_repo: str,
+             expected_ids: set[str] | frozenset[str] = frozenset()) -> None:
+    """Report every validation error and warning on corrected raw groups into `c`."""
+    reason = unsafe_reason(course_repo)
+    if reason:
+        c.error(
+            0,
+            "course_repo",
+            f"course repo {quoted(course_repo)} {reason}; no member links can be made",
+        )
+    _check_groups(groups, c)
+    members = [m for g in groups for m in g.members]
+    _check_memberships(groups, c)
+    _check_id_shapes([m for m in members if m.id not in expected_ids], c)
+    _check_accounts(members, c)
+
+
+def _check_groups(groups: list[RawGroup], c: Collector) -> None:
+    names: dict[str, RawGroup] = {}
+    slugs: dict[str, RawGroup] = {}
+    for g in groups:
+        problem = _name_problem(g.name)
+        if problem:
+            c.error(g.line, g.field, f"group name {quoted(g.name)} {problem}")
+        if g.name in names:
+            c.error(
+                g.line,
+                g.field,
+                f"two groups named {quoted(g.name)} (the other is on line {names[g.name].line})",
+            )
+        names.setdefault(g.name, g)
+        slug = slug_for(g.name)
+        reason = unsafe_reason(slug)
+        if reason and not problem:
+            c.error(
+                g.line,
+                g.field,
+                f"group slug {quoted(slug)} {reason}; rename the group with a group_names rule in the corrections file",
+            )
+        other = slugs.get(slug.lower())
+        if other is not None and other.name != g.name:
+            c.error(
+                g.line,
+                g.field,
+                f"groups {quoted(other.name)} (line {other.line}) and {quoted(g.name)} have the same slug {quoted(slug)}",
+            )
+        slugs.setdefault(slug.lower(), g)
+        if not g.members:
+            c.error(g.line, g.field, f"group {quoted(g.name)} has no members")
+        if g.leader is not None and g.leader not in {m.id for m in g.members}:
+            where = c.file if g.leader_file == c.file else g.leader_file
+            c.add(
+                "error",
+                g.leader_line or g.line,
+                g.leader_field or g.field,
+                f"leader {quoted(g.leader)} is not a member of group {quoted(g.name)}"
+                + ("" if where == c.file else f" (set in {where})"),
+            )
+
+
+def _check_memberships(groups: list[RawGroup], c: Collector) -> None:
+    first: dict[str, tuple[RawGroup, RawMember]] = {}
+    for g in groups:
+        for m in g.members:
+            if not is_student_id(m.id):
+                c.error(m.line, m.field, f"{quoted(m.id)} is not a student id (after corrections)")
+            seen = first.get(m.id)
+            if seen is None:
+                first[m.id] = (g, m)
+            elif seen[0] is g:
+                c.error(
+                    m.line,
+                    m.field,
+                    f"student {m.id} is listed twice in group {quoted(g.name)} (also line {seen[1].line}, {seen[1].field})",
+                )
+            else:
+                c.error(
+                    m.line,
+                    m.field,
+                    f"student {m.id} is in two groups: {quoted(seen[0].name)} (line {seen[1].line}) and {quoted(g.name)}",
+                )
+
+
+def _check_id_shapes(members: list[RawMember], c: Collector) -> None:
+    """Warn about ids whose length or 3-character prefix differs from most ids in the file."""
+    length = _majority([str(len(m.id)) for m in members])
+    prefix = _majority([m.id[:3] for m in members])
+    for m in members:
+        why = []
+        if length is not None and str(len(m.id)) != length:
+            why.append(f"{len(m.id)} characters where most ids have {length}")
+        if prefix is not None and m.id[:3] != prefix:
+            why.append(f"starts with {m.id[:3]!r} where most ids start with {prefix!r}")
+        if why:
+            c.warning(m.line, m.field, f"id {m.id} looks unlike the others: {'; '.join(why)}")
+
+
+def _check_accounts(members: list[RawMember], c: Collector) -> None:
+    ids = {m.id for m in members}
+    owners: dict[str, RawMember] = {}
+    for m in members:
+        reason = unsafe_reason(m.account)
+        if reason:
+            shown = m.raw_account if m.raw_account and m.raw_account != m.account else m.account
+            c.error(
+                m.line,
+                m.account_field,
+                f"account {quoted(shown)} {reason}; no link is made for {m.id}",
+            )
+            continue
+        problem = github_username_problem(m.account)
+        if problem:
+            c.warning(m.line, m.account_field, f"account {quoted(m.account)} {problem}")
+        if m.account != m.id and not m.explained:
+            if m.account in ids or (m.account.isdigit() and len(m.account) == len(m.id)):
+                hint = "it looks like another student id; is a column missing?"
+            else:
+                hint = "add an alias to the corrections file if it is right"
+            c.warning(
+                m.line,
+                m.account_field,
+                f"account {quoted(m.account)} differs from id {m.id} with no alias; {hint}",
+            )
+        other = owners.get(m.account.lower())
+        if other is not None and other.id != m.id:
+            c.warning(
+                m.line,
+                m.account_field,
+                f"account {quoted(m.account)} is also used by {other.id} (line {other.line}); their links will be the same",
+            )
+        owners.setdefault(m.account.lower(), m)

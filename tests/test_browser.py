@@ -1,0 +1,191 @@
+"""The built course site in a real browser: Debian's Chromium driven by Playwright.
+
+The repo's own site is built once (clips come from the build cache after the first run) and
+served on 127.0.0.1. Any request that leaves 127.0.0.1 is blocked and counted as a failure.
+Under CI these tests fail, never skip, when Chromium or Playwright is missing.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import re
+import shutil
+import threading
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from urllib.parse import urlsplit
+
+import pytest
+from sitegen_helpers import REPO, run_build
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+ARTIFACTS = REPO / "test-artifacts"
+ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync", "--autoplay-policy=no-user-gesture-required"]
+
+
+def _require_browser() -> None:
+    missing = []
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        missing.append("playwright (pip install -e '.[test]')")
+    if not os.path.exists(CHROMIUM):
+        missing.append("chromium (apt-get install chromium)")
+    if missing:
+        message = "browser tests need " + ", ".join(missing)
+        if os.environ.get("CI"):
+            pytest.fail(message)
+        pytest.skip(message)
+
+
+class _Quiet(SimpleHTTPRequestHandler):
+    def log_message(self, *args) -> None:
+        pass
+
+
+@pytest.fixture(scope="module")
+def site_url(tmp_path_factory):
+    _require_browser()
+    out = tmp_path_factory.mktemp("browser") / "site"
+    run_build(REPO, out)
+    server = ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(out)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    yield f"http://127.0.0.1:{server.server_address[1]}/"
+    server.shutdown()
+    server.server_close()
+
+
+@pytest.fixture(scope="module")
+def browser(site_url):
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS, headless=True)
+        yield b
+        b.close()
+
+
+class Watch:
+    """Records console errors and blocks (and records) any request that leaves 127.0.0.1."""
+
+    def __init__(self, page):
+        self.errors: list[str] = []
+        self.outside: list[str] = []
+        page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: self.errors.append(str(e)))
+        page.route("**/*", self._route)
+
+    def _route(self, route) -> None:
+        url = route.request.url
+        host = urlsplit(url).hostname
+        if url.startswith(("data:", "blob:")) or host == "127.0.0.1":
+            route.continue_()
+        else:
+            self.outside.append(url)
+            route.abort()
+
+
+@pytest.fixture()
+def page(browser):
+    context = browser.new_context(viewport={"width": 1280, "height": 900})
+    pg = context.new_page()
+    watch = Watch(pg)
+    pg.watch = watch
+    yield pg
+    assert watch.outside == [], f"requests left 127.0.0.1: {watch.outside}"
+    assert watch.errors == [], f"console errors: {watch.errors}"
+    context.close()
+
+
+def shot(page, name: str) -> None:
+    ARTIFACTS.mkdir(exist_ok=True)
+    page.screenshot(path=str(ARTIFACTS / f"{name}.png"), full_page=False)
+
+
+def test_menu_navigation_to_a_week_page_and_prev_next(page, site_url):
+    page.goto(site_url + "index.html")
+    page.locator("#nav a", has_text=re.compile(r"^Stage 1")).first.click()
+    page.locator("#nav a", has_text=re.compile(r"^W1\b")).first.click()
+    assert re.search(r"/stage-1/w1/index\.html$", page.url)
+    title = page.locator("article h1").inner_text()
+    assert title.startswith("W1")
+    shot(page, "week-page")
+    page.locator(".pager a.next").first.click()
+    next_title = page.locator("article h1").inner_text()
+    assert next_title != title
+    page.locator(".pager a.prev").first.click()
+    assert page.locator("article h1").inner_text() == title
+
+
+def test_site_map_lists_every_page(page, site_url):
+    page.goto(site_url + "index.html")
+    page.locator(".topbar a.sitemap-link").click()
+    links = page.locator(".sitemap a")
+    assert links.count() > 40
+    hrefs = {links.nth(i).get_attribute("href") for i in range(links.count())}
+    assert any("w12" in h for h in hrefs)
+
+
+def test_search_finds_chinese_word_in_running_text(page, site_url):
+    page.goto(site_url + "index.html")
+    page.fill(".topbar input[name=q]", "齒輪")
+    page.press(".topbar input[name=q]", "Enter")
+    page.wait_for_selector("#search-results li")
+    results = page.locator("#search-results li a")
+    assert results.count() >= 1
+    first = results.first.get_attribute("href")
+    shot(page, "search")
+    results.first.click()
+    assert "齒輪" in page.locator("article").inner_text(), first
+
+
+def test_roster_page_shows_every_group_and_anchors_work(page, site_url):
+    page.goto(site_url + "sitemap.html")
+    page.locator(".sitemap a", has_text="分組名單").first.click()
+    groups = page.locator("section.roster-group")
+    assert groups.count() == 6
+    page.locator(".toc a", has_text="stage3-ag4").click()
+    assert page.url.endswith("#group-stage3-ag4")
+    box = page.locator("#group-stage3-ag4").bounding_box()
+    assert box is not None and 0 <= box["y"] < 400  # scrolled to the group
+    shot(page, "roster")
+
+
+def _pages_with_clips(page, site_url) -> list[str]:
+    page.goto(site_url + "sitemap.html")
+    hrefs = [a.get_attribute("href") for a in page.locator(".sitemap a").all()]
+    return hrefs
+
+
+def test_every_embedded_clip_plays(page, site_url):
+    hrefs = _pages_with_clips(page, site_url)
+    played = 0
+    for href in hrefs:
+        page.goto(site_url + href)
+        videos = page.locator("video")
+        for i in range(videos.count()):
+            handle = videos.nth(i)
+            handle.scroll_into_view_if_needed()
+            handle.evaluate("v => { v.muted = true; return v.play(); }")
+            page.wait_for_function("v => v.readyState >= 2 && v.videoWidth > 0 && v.currentTime > 0.2", arg=handle.element_handle(), timeout=20000)
+            played += 1
+    assert played >= 10  # W7, W8, W11, W12 embeds plus the gallery
+    shot(page, "clip")
+
+
+def test_phone_viewport_never_scrolls_sideways(browser, site_url):
+    context = browser.new_context(viewport={"width": 375, "height": 740}, is_mobile=True, has_touch=True)
+    pg = context.new_page()
+    Watch(pg)
+    pg.goto(site_url + "sitemap.html")
+    hrefs = [a.get_attribute("href") for a in pg.locator(".sitemap a").all()]
+    for href in hrefs[:: max(1, len(hrefs) // 15)] + ["search.html?q=齒輪", "gallery/index.html"]:
+        pg.goto(site_url + href)
+        wide = pg.evaluate("document.documentElement.scrollWidth - document.documentElement.clientWidth")
+        assert wide <= 0, f"{href} scrolls sideways by {wide}px"
+    pg.goto(site_url + "index.html")
+    pg.locator(".menu-toggle").click()
+    assert pg.locator("#nav").is_visible()
+    shot(pg, "phone")
+    context.close()
