@@ -1,0 +1,163 @@
+"""Clips: decodable WebM + data files, content-hash cache, failures isolated, stale kept."""
+
+from __future__ import annotations
+
+import json
+import time
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from sims.clips import ClipEvent, ClipSpec, render_clips
+from sims.scenarios import get_scenario
+from sims.sources import RecordingPlan, register_source_kind, scenario_plan
+from sims.video import probe
+
+W, H, FPS, SECONDS = 160, 120, 10, 2.0
+FRAMES = round(FPS * SECONDS)
+
+
+def small(name: str, scenario: str | None = None, **kw) -> ClipSpec:
+    return ClipSpec(name=name, scenario=scenario or name, width=W, height=H, fps=FPS,
+                    seconds=SECONDS, **kw)
+
+
+# Source kinds for failure tests; workers import them from this module by name.
+def failing_plan(spec: ClipSpec) -> RecordingPlan:
+    plan = scenario_plan(ClipSpec(spec.name, "cart-reverse"))
+
+    def drive(world, record):
+        world.advance(0.5)
+        raise RuntimeError("motor exploded")
+
+    plan.drive = drive
+    return plan
+
+
+def hanging_plan(spec: ClipSpec) -> RecordingPlan:
+    plan = scenario_plan(ClipSpec(spec.name, "cart-reverse"))
+
+    def drive(world, record):
+        while True:  # never steps, so only the hard kill can stop it
+            time.sleep(0.05)
+
+    plan.drive = drive
+    return plan
+
+
+def endless_plan(spec: ClipSpec) -> RecordingPlan:
+    plan = scenario_plan(ClipSpec(spec.name, "cart-reverse"))
+
+    def drive(world, record):
+        while True:  # steps forever; the clip is far longer than the time limit allows
+            world.step()
+
+    plan.drive = drive
+    return plan
+
+
+@pytest.fixture(scope="module")
+def gallery(tmp_path_factory):
+    cache = tmp_path_factory.mktemp("clips")
+    specs = [small(n) for n in ("2w1a-random", "cart-reverse", "cart-keyboard", "cart-avoid")]
+    events: list[ClipEvent] = []
+    results = render_clips(specs, cache, progress=events.append)
+    return cache, specs, results, events
+
+
+def test_every_clip_renders_and_decodes(gallery):
+    _, specs, results, events = gallery
+    assert [r.name for r in results] == [s.name for s in specs]
+    for r in results:
+        assert r.ok and r.rendered and not r.stale, r.error
+        info, frames = probe(r.files["video"], keep_frames=True)
+        assert r.files["video"].suffix == ".webm"
+        assert (info.width, info.height, info.frames) == (W, H, FRAMES)
+        diffs = [np.abs(frames[i].astype(int) - frames[i + 1]).mean() for i in range(FRAMES - 1)]
+        assert max(diffs) > 0.5, f"{r.name}: the picture does not move"
+        assert r.meta["frames"] == FRAMES and r.meta["fps"] == FPS
+        assert r.meta["renderer"] in ("egl", "tinyrenderer")
+        assert r.meta["source"].startswith("sims/scenarios/")
+        assert r.meta["description"] == get_scenario(r.name).description
+    statuses = sorted((e.name, e.status) for e in events)
+    assert statuses == sorted([(s.name, st) for s in specs for st in ("started", "done")])
+
+
+def test_data_files_match_the_video(gallery):
+    _, _, results, _ = gallery
+    for r in results:
+        assert r.files["poster"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        lines = r.files["csv"].read_text().splitlines()
+        assert len(lines) == FRAMES + 1 and lines[0].startswith("t,x,y,z,")
+        data = json.loads(r.files["json"].read_text())
+        assert data["scenario"] == r.name and len(data["samples"]) == FRAMES
+        svg = ET.fromstring(r.files["plot"].read_text())
+        texts = [t.text for t in svg.iter("{http://www.w3.org/2000/svg}text")]
+        assert "x (m)" in texts and "y (m)" in texts
+        assert list(svg.iter("{http://www.w3.org/2000/svg}polyline"))
+
+
+def test_second_render_comes_from_the_cache(gallery):
+    cache, specs, first, _ = gallery
+    events: list[ClipEvent] = []
+    start = time.perf_counter()
+    again = render_clips(specs, cache, progress=events.append)
+    assert time.perf_counter() - start < 0.5
+    assert not any(r.rendered for r in again)
+    assert [e.status for e in events] == ["cached"] * len(specs)
+    assert [r.files for r in again] == [r.files for r in first]
+    renamed = render_clips([small("other-name", "cart-reverse")], cache)  # same content
+    assert not renamed[0].rendered and renamed[0].files == first[1].files
+
+
+def test_cache_key_follows_params_seed_and_size(gallery):
+    cache, _, first, _ = gallery
+    base = first[1].meta["key"]
+    for spec in (small("cart-reverse", seed=3), small("cart-reverse", params={"speed": -2.0})):
+        assert render_clips([spec], cache)[0].meta["key"] != base
+    bigger = ClipSpec("cart-reverse", "cart-reverse", width=W + 2, height=H, fps=FPS, seconds=SECONDS)
+    assert render_clips([bigger], cache)[0].meta["key"] != base
+
+
+def test_a_failing_clip_is_reported_by_name_and_keeps_the_stale_render(tmp_path):
+    register_source_kind("test-failing", "test_sims_clips:failing_plan")
+    first = render_clips([small("demo", "cart-reverse")], tmp_path)[0]
+    assert first.ok
+    events: list[ClipEvent] = []
+    results = render_clips([ClipSpec("demo", "cart-reverse", W, H, FPS, SECONDS, kind="test-failing"),
+                            small("fine", "cart-keyboard")],
+                           tmp_path, progress=events.append)
+    bad, good = results
+    assert not bad.ok and bad.stale and "cart-reverse" in bad.error and "motor exploded" in bad.error
+    assert bad.files == first.files and bad.files["video"].is_file()
+    assert good.ok and good.rendered
+    assert ("demo", "failed") in [(e.name, e.status) for e in events]
+    unknown = render_clips([small("ghost", "no-such-scenario")], tmp_path)[0]
+    assert not unknown.ok and not unknown.stale and "no-such-scenario" in unknown.error
+
+
+def test_a_clip_past_its_time_limit_is_stopped(tmp_path):
+    register_source_kind("test-hanging", "test_sims_clips:hanging_plan")
+    spec = ClipSpec("hang", "cart-reverse", W, H, FPS, SECONDS, kind="test-hanging")
+    start = time.perf_counter()
+    result = render_clips([spec], tmp_path, timeout=1.0)[0]
+    assert time.perf_counter() - start < 10
+    assert not result.ok and "time limit" in result.error and "cart-reverse" in result.error
+
+
+def test_a_stepping_clip_past_its_time_limit_stops_itself(tmp_path):
+    register_source_kind("test-endless", "test_sims_clips:endless_plan")
+    spec = ClipSpec("endless", "cart-reverse", W, H, FPS, seconds=10_000, kind="test-endless")
+    result = render_clips([spec], tmp_path, timeout=1.5)[0]
+    assert not result.ok and "passed its time limit of 1.5 s" in result.error
+    assert "worker killed" not in result.error  # the Recorder's own deadline stopped it
+
+
+def test_identical_content_under_two_names_renders_once(tmp_path):
+    events: list[ClipEvent] = []
+    twins = render_clips([small("twin-a", "cart-reverse"), small("twin-b", "cart-reverse")],
+                         tmp_path, progress=events.append)
+    assert [r.rendered for r in twins] == [True, False]
+    assert twins[0].files == twins[1].files and twins[1].meta["name"] == "twin-b"
+    assert ("twin-b", "cached") in [(e.name, e.status) for e in events]
