@@ -22,7 +22,7 @@ from sitegen.errors import BuildError, Diagnostic, Diagnostics
 from sitegen.i18n import strings
 from sitegen.integrations import Integration, make_integrations
 from sitegen.links import LinkTargets, expand_directives, rewrite_links
-from sitegen.nav import Node, PageInput, build_site
+from sitegen.nav import PageInput, build_site
 from sitegen.output import OutFile, from_bytes, publish
 from sitegen.pages import (
     MenuSignatures,
@@ -116,7 +116,8 @@ def build(opts: BuildOptions) -> BuildReport:
     _check_collisions(inputs, diags)
     site = build_site(inputs, home_title=t["home"])
     frag = Fragments() if opts.clean else cache.load_fragments()
-    bodies, renders = _render_markdown(site, frag, report)
+    renders = _render_markdown(site, frag, report)
+    bodies: dict[str, PageBody] = {}
     assets = {a.rel for a in tree.assets}
     targets = LinkTargets.build(site, assets, {url: set(r.ids) for url, r in renders.items()})
 
@@ -189,9 +190,8 @@ def _render_markdown(site, frag: Fragments, report: BuildReport):
     used: dict[str, Rendered] = {}
     for node in site.order:
         src = node.source
-        if src is None:
-            html = _section_listing(node)
-            renders[node.url] = Rendered(html, [], [], plain_text(html))
+        if src is None:  # a folder without index.md: the template lists its children
+            renders[node.url] = Rendered("", [], [], "")
             continue
         if src.body_html is not None:
             renders[node.url] = Rendered(src.body_html, src.toc or [], _ids(src.body_html), plain_text(src.body_html))
@@ -204,17 +204,13 @@ def _render_markdown(site, frag: Fragments, report: BuildReport):
             report.markdown_rendered += 1
         renders[node.url] = used[key] = cached
     frag.markdown = used
-    return {}, renders
+    return renders
 
 
 def _ids(html: str) -> list[str]:
     import re
 
     return re.findall(r'\sid="([^"]+)"', html)
-
-
-def _section_listing(node: Node) -> str:
-    return ""  # generated section pages list their children through the template
 
 
 def _check_collisions(inputs: list[PageInput], diags: Diagnostics) -> None:

@@ -12,13 +12,15 @@ import re
 from dataclasses import dataclass, field
 
 import markdown
+import pygments
 from markdown.extensions import Extension
 from markdown.preprocessors import Preprocessor
 
 from sitegen.slugs import heading_id
 
-#: Bump when the rendering below changes, so cached fragments are invalidated.
-RENDER_VERSION = "md-3"
+#: Part of every cached fragment's key: bump the number when the rendering below changes; the
+#: Markdown and Pygments versions are in it because their output changes with them.
+RENDER_VERSION = f"md-3/{markdown.__version__}/{pygments.__version__}"
 
 DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
 MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")

@@ -11,7 +11,6 @@ import hashlib
 import os
 import time
 from dataclasses import dataclass
-from pathlib import PurePosixPath
 
 from markupsafe import Markup
 
@@ -141,7 +140,3 @@ def search_entries(site: Site, bodies: dict[str, PageBody]) -> list[dict]:
         {"title": n.title, "url": n.url, "path": [a.title for a in n.ancestors()], "text": bodies[n.url].text}
         for n in site.order
     ]
-
-
-def asset_url(rel: PurePosixPath) -> str:
-    return str(rel)

@@ -41,13 +41,7 @@ class _Handler(SimpleHTTPRequestHandler):
 
     def do_GET(self) -> None:  # noqa: N802 (http.server's name)
         if self.path.startswith("/__sitegen__/version"):
-            body = str(self.state.version).encode()
-            self.send_response(HTTPStatus.OK)
-            self.send_header("Content-Type", "text/plain")
-            self.send_header("Content-Length", str(len(body)))
-            self.send_header("Cache-Control", "no-store")
-            self.end_headers()
-            self.wfile.write(body)
+            self._send(str(self.state.version).encode(), "text/plain")
             return
         path = self.translate_path(self.path)
         if os.path.isdir(path):
@@ -57,14 +51,17 @@ class _Handler(SimpleHTTPRequestHandler):
                 data = fh.read()
             at = data.rfind(b"</body>")
             data = data[:at] + RELOAD_JS + data[at:] if at >= 0 else data + RELOAD_JS
-            self.send_response(HTTPStatus.OK)
-            self.send_header("Content-Type", "text/html; charset=utf-8")
-            self.send_header("Content-Length", str(len(data)))
-            self.send_header("Cache-Control", "no-store")
-            self.end_headers()
-            self.wfile.write(data)
+            self._send(data, "text/html; charset=utf-8")
             return
         super().do_GET()
+
+    def _send(self, body: bytes, content_type: str) -> None:
+        self.send_response(HTTPStatus.OK)
+        self.send_header("Content-Type", content_type)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        self.wfile.write(body)
 
 
 def _snapshot(root: Path, skip: set[Path]) -> tuple:
