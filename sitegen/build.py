@@ -24,6 +24,8 @@ from sitegen.integrations import Integration, make_integrations
 from sitegen.links import LinkTargets, expand_directives, rewrite_links
 from sitegen.nav import PageInput, build_site
 from sitegen.output import OutFile, from_bytes, publish
+from sitegen.output import intact as output_intact
+from sitegen.output import unchanged as output_unchanged
 from sitegen.pages import (
     MenuSignatures,
     PageBody,
@@ -100,7 +102,7 @@ def build(opts: BuildOptions) -> BuildReport:
     integrations = make_integrations(config, cache_dir, opts)
     fingerprint = _fingerprint(config, tree, theme_digest, integrations)
     if (not opts.clean and state.fingerprint == fingerprint and state.output == str(output)
-            and not diags.items and _manifest_intact(output, state.manifest)):
+            and not diags.items and output_intact(output, state.manifest)):
         report.up_to_date = True
         report.seconds = time.perf_counter() - started
         return report
@@ -138,7 +140,7 @@ def build(opts: BuildOptions) -> BuildReport:
         ctx = page_context(site, node, bodies[node.url], base)
         key = context_hash(ctx, theme_digest, menu_signature(node))
         old = frag.pages.get(node.url)
-        if old and old[0] == key and _unchanged_on_disk(output, node.url, state.manifest, old[1]):
+        if old and old[0] == key and output_unchanged(output, node.url, state.manifest, old[1]):
             files[node.url] = OutFile(old[1], source=output / node.url)
         else:
             files[node.url] = from_bytes(render_page(theme, site, node, ctx))
@@ -219,31 +221,6 @@ def _check_collisions(inputs: list[PageInput], diags: Diagnostics) -> None:
         if p.rel in seen:
             diags.error(str(p.rel), None, "", "a generated page has the same path as a content page")
         seen[p.rel] = p
-
-
-def _unchanged_on_disk(output: Path, rel: str, manifest: dict[str, list], digest: str) -> bool:
-    """The file the last build wrote is still there, untouched (so it can be reused)."""
-    entry = manifest.get(rel)
-    if not entry or entry[0] != digest:
-        return False
-    try:
-        st = (output / rel).stat()
-    except OSError:
-        return False
-    return [st.st_size, st.st_mtime_ns, st.st_ino] == entry[1:]
-
-
-def _manifest_intact(output: Path, manifest: dict[str, list]) -> bool:
-    if not manifest or not output.is_dir():
-        return False
-    for rel, entry in manifest.items():
-        try:
-            st = (output / rel).stat()
-        except OSError:
-            return False
-        if [st.st_size, st.st_mtime_ns, st.st_ino] != entry[1:]:
-            return False
-    return True
 
 
 def _fingerprint(config: Config, tree, theme_digest: str, integrations: list[Integration]) -> str:

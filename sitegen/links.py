@@ -8,6 +8,7 @@ paths relative to the linking page, so the same site works from ``file://``, und
 
 from __future__ import annotations
 
+import html
 import posixpath
 import re
 from collections.abc import Callable
@@ -127,14 +128,12 @@ def expand_directives(
     directives: list[tuple[str, str, int]], first_line: int,
 ) -> str:
     """Replace ``<!--sitegen:NAME:ARG-->`` markers with what the handler for NAME returns."""
-    from sitegen.markdown_render import MARKER
+    from sitegen.markdown_render import MARKER  # lazily: a no-op build never loads Markdown
 
     lines = {(name, arg): first_line + line - 1 for name, arg, line in directives}
 
     def sub(m: re.Match) -> str:
-        import html as _html
-
-        name, arg = m.group(1), _html.unescape(m.group(2))
+        name, arg = m.group(1), html.unescape(m.group(2))
         handler = handlers.get(name)
         line = lines.get((name, arg))
         if handler is None:

@@ -44,6 +44,19 @@ def _stat_key(path: Path) -> list[int] | None:
     return [st.st_size, st.st_mtime_ns, st.st_ino]
 
 
+def unchanged(out_dir: Path, rel: str, manifest: dict[str, list], digest: str | None = None) -> bool:
+    """``rel`` is still the file the last build wrote (same stat; same digest if given)."""
+    entry = manifest.get(rel)
+    if not entry or (digest is not None and entry[0] != digest):
+        return False
+    return entry[1:] == _stat_key(out_dir / rel)
+
+
+def intact(out_dir: Path, manifest: dict[str, list]) -> bool:
+    """Every file of the last build is still there, untouched (the no-op check)."""
+    return bool(manifest) and out_dir.is_dir() and all(unchanged(out_dir, rel, manifest) for rel in manifest)
+
+
 def current_digests(out_dir: Path, manifest: dict[str, list]) -> dict[str, str]:
     """Digest of each file now in ``out_dir``, trusting the manifest where the stat matches."""
     found: dict[str, str] = {}
@@ -53,9 +66,8 @@ def current_digests(out_dir: Path, manifest: dict[str, list]) -> dict[str, str]:
         for name in files:
             path = Path(dirpath) / name
             rel = path.relative_to(out_dir).as_posix()
-            entry = manifest.get(rel)
-            if entry and entry[1:] == _stat_key(path):
-                found[rel] = entry[0]
+            if unchanged(out_dir, rel, manifest):
+                found[rel] = manifest[rel][0]
             else:
                 found[rel] = file_digest(path)
     return found
