@@ -20,9 +20,11 @@ import time
 from pathlib import Path
 
 WORK = Path(__file__).resolve().parent / "_work"
-PROSE = ("齒輪的方向與速度需要在設計時一併考慮, 錯誤排解時先確認傳動比. 協同設計以 GitHub 倉儲管理, "
-         "每位組員在 cd2021 倉儲中撰寫週報. 機構模擬使用 CoppeliaSim 與 pybullet, 馬達以位置控制驅動手臂. "
-         "產品簡化後重新繪製 2D 工程圖與 3D 爆炸圖, 並以影片說明組裝流程. ")
+PROSE = (
+    "齒輪的方向與速度需要在設計時一併考慮, 錯誤排解時先確認傳動比. 協同設計以 GitHub 倉儲管理, "
+    "每位組員在 cd2021 倉儲中撰寫週報. 機構模擬使用 CoppeliaSim 與 pybullet, 馬達以位置控制驅動手臂. "
+    "產品簡化後重新繪製 2D 工程圖與 3D 爆炸圖, 並以影片說明組裝流程. "
+)
 CODE = "```python\nimport sim as vrep\nclientID = vrep.simxStart('127.0.0.1', 19997, True, True, 5000, 5)\nfor i in range(3):\n    print(i * 2)\n```\n"
 TABLE = "| 項目 | 數值 | 說明 |\n|---|---|---|\n| 速度 | 2 rad/s | 最大 |\n| 步進 | 0.5 rad/s | 每次 |\n"
 
@@ -84,13 +86,21 @@ def hugo_site(corpus: Path, dest: Path) -> Path:
     shutil.copytree(corpus, dest / "content")
     for index in (dest / "content").rglob("index.md"):
         index.rename(index.with_name("_index.md"))
-    (dest / "hugo.toml").write_text('baseURL = "http://127.0.0.1/"\ntitle = "bench"\ndisableKinds = ["taxonomy", "term", "RSS"]\n', encoding="utf-8")
-    menu = ('{{ define "tree" }}<ul>{{ range .Sections }}<li><a href="{{ .RelPermalink }}">{{ .Title }}</a>'
-            '{{ template "tree" . }}</li>{{ end }}{{ range .RegularPages }}<li><a href="{{ .RelPermalink }}">'
-            '{{ .Title }}</a></li>{{ end }}</ul>{{ end }}')
-    page = ('<!DOCTYPE html><html><head><title>{{ .Title }}</title></head><body><nav>'
-            '{{ template "tree" .Site.Home }}</nav><main><h1>{{ .Title }}</h1>{{ .Content }}'
-            '{{ with .PrevInSection }}<a href="{{ .RelPermalink }}">{{ .Title }}</a>{{ end }}</main></body></html>' + menu)
+    (dest / "hugo.toml").write_text(
+        'baseURL = "http://127.0.0.1/"\ntitle = "bench"\ndisableKinds = ["taxonomy", "term", "RSS"]\n',
+        encoding="utf-8",
+    )
+    menu = (
+        '{{ define "tree" }}<ul>{{ range .Sections }}<li><a href="{{ .RelPermalink }}">{{ .Title }}</a>'
+        '{{ template "tree" . }}</li>{{ end }}{{ range .RegularPages }}<li><a href="{{ .RelPermalink }}">'
+        "{{ .Title }}</a></li>{{ end }}</ul>{{ end }}"
+    )
+    page = (
+        "<!DOCTYPE html><html><head><title>{{ .Title }}</title></head><body><nav>"
+        '{{ template "tree" .Site.Home }}</nav><main><h1>{{ .Title }}</h1>{{ .Content }}'
+        '{{ with .PrevInSection }}<a href="{{ .RelPermalink }}">{{ .Title }}</a>{{ end }}</main></body></html>'
+        + menu
+    )
     for name in ("single.html", "list.html"):
         (dest / "layouts/_default" / name).write_text(page, encoding="utf-8")
     return dest
@@ -101,7 +111,9 @@ def mkdocs_site(corpus: Path, dest: Path) -> Path:
         shutil.rmtree(dest)
     dest.mkdir(parents=True)
     shutil.copytree(corpus, dest / "docs")
-    (dest / "mkdocs.yml").write_text("site_name: bench\nuse_directory_urls: false\n", encoding="utf-8")
+    (dest / "mkdocs.yml").write_text(
+        "site_name: bench\nuse_directory_urls: false\n", encoding="utf-8"
+    )
     return dest
 
 
@@ -115,7 +127,16 @@ def main() -> int:
     out, cache = WORK / "site", WORK / "cache"
     for d in (out, cache):
         shutil.rmtree(d, ignore_errors=True)
-    sitegen = [sys.executable, "-m", "sitegen", "build", "--source", str(corpus), "--output", str(out)]
+    sitegen = [
+        sys.executable,
+        "-m",
+        "sitegen",
+        "build",
+        "--source",
+        str(corpus),
+        "--output",
+        str(out),
+    ]
     rows: list[tuple[str, float, float]] = []
     rows.append(("sitegen cold", *timed(sitegen)))
     rows.append(("sitegen no-op", *timed(sitegen)))
@@ -135,13 +156,18 @@ def main() -> int:
             import mkdocs  # noqa: F401
 
             site = mkdocs_site(corpus, WORK / "mkdocs")
-            secs, mem = timed([sys.executable, "-m", "mkdocs", "build", "-q", "-d", str(WORK / "mkdocs-out")], cwd=site)
+            secs, mem = timed(
+                [sys.executable, "-m", "mkdocs", "build", "-q", "-d", str(WORK / "mkdocs-out")],
+                cwd=site,
+            )
             rows.append(("mkdocs", secs, mem))
             peers["mkdocs"] = secs
         except ImportError:
             print("mkdocs not installed: pip install mkdocs", file=sys.stderr)
     pages = sum(1 for _ in out.rglob("*.html"))
-    print(f"corpus: {args.pages} Markdown pages, 18 week folders; sitegen wrote {pages} HTML files; {os.cpu_count()} cores")
+    print(
+        f"corpus: {args.pages} Markdown pages, 18 week folders; sitegen wrote {pages} HTML files; {os.cpu_count()} cores"
+    )
     print(f"{'run':24} {'seconds':>8} {'peak MB':>8} {'x hugo':>7} {'x mkdocs':>9}")
     for name, secs, mem in rows:
         h = f"{secs / peers['hugo']:.3f}" if "hugo" in peers else "-"

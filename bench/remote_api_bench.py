@@ -38,7 +38,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"no script at {args.script}", file=sys.stderr)
         return 2
     ratios, sims, walls = [], [], []
-    print(f"{'run':>3}  {'simulated s':>11}  {'script clock s':>14}  {'wall s':>7}  {'x real time':>11}")
+    print(
+        f"{'run':>3}  {'simulated s':>11}  {'script clock s':>14}  {'wall s':>7}  {'x real time':>11}"
+    )
     for i in range(args.runs):
         sink = io.StringIO()
         with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
@@ -50,8 +52,10 @@ def main(argv: list[str] | None = None) -> int:
         ratios.append(ratio)
         sims.append(result.sim_time)
         walls.append(result.wall_time)
-        print(f"{i:>3}  {result.sim_time:>11.2f}  {result.clock_time:>14.2f}  "
-              f"{result.wall_time:>7.2f}  {ratio:>11.1f}")
+        print(
+            f"{i:>3}  {result.sim_time:>11.2f}  {result.clock_time:>14.2f}  "
+            f"{result.wall_time:>7.2f}  {ratio:>11.1f}"
+        )
 
     steps = round(statistics.median(sims) / 0.005)
     with World(args.scene) as world:
@@ -59,10 +63,14 @@ def main(argv: list[str] | None = None) -> int:
         world.step(steps)
         physics = time.perf_counter() - t0
     median = statistics.median(ratios)
-    print(f"median: simulated {statistics.median(sims):.2f} s in {statistics.median(walls):.2f} s "
-          f"wall = {median:.1f}x real time (required: {args.min_ratio:g}x)")
-    print(f"bare physics of {steps} steps: {physics:.2f} s "
-          f"({statistics.median(sims) / physics:.0f}x real time)")
+    print(
+        f"median: simulated {statistics.median(sims):.2f} s in {statistics.median(walls):.2f} s "
+        f"wall = {median:.1f}x real time (required: {args.min_ratio:g}x)"
+    )
+    print(
+        f"bare physics of {steps} steps: {physics:.2f} s "
+        f"({statistics.median(sims) / physics:.0f}x real time)"
+    )
     return 0 if median >= args.min_ratio else 1
 
 

@@ -71,8 +71,10 @@ def main() -> int:
             print(f"FAILED {r.name}: {r.error}")
         frames = sum(r.meta.get("frames", 0) for r in cold if r.rendered)
         used = sorted({r.meta.get("renderer", "?") for r in cold if r.ok})
-        print(f"gallery cold: {len(cold)} clips, {frames} frames in {cold_wall:.1f} s = "
-              f"{frames / cold_wall:.1f} frames/s (renderer: {', '.join(used)})")
+        print(
+            f"gallery cold: {len(cold)} clips, {frames} frames in {cold_wall:.1f} s = "
+            f"{frames / cold_wall:.1f} frames/s (renderer: {', '.join(used)})"
+        )
         for r in cold:
             print(f"  {r.name:14s} {r.meta.get('frames', 0):5d} frames  {r.seconds:6.1f} s")
         start = time.perf_counter()
@@ -81,8 +83,10 @@ def main() -> int:
         again = sum(r.meta.get("frames", 0) for r in warm if r.rendered)
         print(f"gallery cached: {again} frames rendered in {warm_wall:.3f} s")
     ratio = frames / cold_wall / raw
-    print(f"ratio cold gallery / raw TinyRenderer: {ratio:.2f}x (target >= 1.5x); "
-          f"cached: {'OK' if again == 0 and warm_wall < 0.5 else 'MISSED'} (target 0 frames, < 0.5 s)")
+    print(
+        f"ratio cold gallery / raw TinyRenderer: {ratio:.2f}x (target >= 1.5x); "
+        f"cached: {'OK' if again == 0 and warm_wall < 0.5 else 'MISSED'} (target 0 frames, < 0.5 s)"
+    )
     return 1 if failed else 0
 
 

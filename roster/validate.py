@@ -43,8 +43,12 @@ def _majority(values: list[str]) -> str | None:
     return value if count * 2 > len(values) else None
 
 
-def validate(groups: list[RawGroup], c: Collector, course_repo: str,
-             expected_ids: set[str] | frozenset[str] = frozenset()) -> None:
+def validate(
+    groups: list[RawGroup],
+    c: Collector,
+    course_repo: str,
+    expected_ids: set[str] | frozenset[str] = frozenset(),
+) -> None:
     """Report every validation error and warning on corrected raw groups into `c`."""
     reason = unsafe_reason(course_repo)
     if reason:

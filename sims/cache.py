@@ -23,10 +23,24 @@ from typing import Any
 PACKAGE_DIR = Path(__file__).resolve().parent
 ROOT_DIR = PACKAGE_DIR.parent
 CACHE_FORMAT = 1
-ENGINE_FILES = ("world.py", "recording.py", "render.py", "video.py", "plot.py",
-                "clip_worker.py", "sources.py", "models/*.py", "scenarios/__init__.py")
-FILES = {"video": "clip.webm", "poster": "poster.png", "csv": "data.csv", "json": "data.json",
-         "plot": "path.svg"}
+ENGINE_FILES = (
+    "world.py",
+    "recording.py",
+    "render.py",
+    "video.py",
+    "plot.py",
+    "clip_worker.py",
+    "sources.py",
+    "models/*.py",
+    "scenarios/__init__.py",
+)
+FILES = {
+    "video": "clip.webm",
+    "poster": "poster.png",
+    "csv": "data.csv",
+    "json": "data.json",
+    "plot": "path.svg",
+}
 META = "meta.json"
 
 
@@ -71,8 +85,12 @@ def _versions() -> dict[str, str]:
 def clip_key(fields: dict[str, Any], source_files: list[str]) -> str:
     """Hex key from the spec fields that change the output and all relevant source bytes."""
     files = {display_path(f): file_digest(f) for f in [*source_files, *engine_files()]}
-    payload = {"format": CACHE_FORMAT, "fields": fields, "files": dict(sorted(files.items())),
-               "versions": _versions()}
+    payload = {
+        "format": CACHE_FORMAT,
+        "fields": fields,
+        "files": dict(sorted(files.items())),
+        "versions": _versions(),
+    }
     text = json.dumps(payload, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:24]
 

@@ -41,6 +41,7 @@ def _positive(kind: type):
         if value <= 0:
             raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
         return value
+
     return parse
 
 
@@ -53,10 +54,14 @@ def build_parser(prog: str) -> argparse.ArgumentParser:
     render.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default {DEFAULT_OUT})")
     render.add_argument("--size", type=_size, default=(480, 360), help="WxH (default 480x360)")
     render.add_argument("--fps", type=_positive(int), default=20, help="frames per second")
-    render.add_argument("--seconds", type=_positive(float), help="clip length (default: scenario's)")
+    render.add_argument(
+        "--seconds", type=_positive(float), help="clip length (default: scenario's)"
+    )
     render.add_argument("--seed", type=int, help="seed (default: scenario's)")
     render.add_argument("--jobs", type=_positive(int), help="parallel workers (default: CPUs)")
-    render.add_argument("--cache", default=DEFAULT_CACHE, help=f"cache folder (default {DEFAULT_CACHE})")
+    render.add_argument(
+        "--cache", default=DEFAULT_CACHE, help=f"cache folder (default {DEFAULT_CACHE})"
+    )
     return parser
 
 
@@ -71,8 +76,11 @@ def main(argv: list[str] | None = None, prog: str = "sitegen sims") -> int:
         return _render(args, prog)
     except UsageError as exc:
         print(f"{prog}: {exc}", file=sys.stderr)
-        print(f"usage: {prog} list | render NAME... [--out DIR] [--size WxH] [--fps N] "
-              "[--seconds S] [--jobs N]", file=sys.stderr)
+        print(
+            f"usage: {prog} list | render NAME... [--out DIR] [--size WxH] [--fps N] "
+            "[--seconds S] [--jobs N]",
+            file=sys.stderr,
+        )
         return 2
     except SystemExit as exc:  # --help
         return int(exc.code or 0)
@@ -105,8 +113,18 @@ def _render(args: argparse.Namespace, prog: str) -> int:
     if unknown:
         raise UsageError(f"unknown scenario {', '.join(unknown)} (known: {', '.join(known)})")
     width, height = args.size
-    specs = [ClipSpec(name=n, scenario=n, width=width, height=height, fps=args.fps,
-                      seconds=args.seconds, seed=args.seed) for n in names]
+    specs = [
+        ClipSpec(
+            name=n,
+            scenario=n,
+            width=width,
+            height=height,
+            fps=args.fps,
+            seconds=args.seconds,
+            seed=args.seed,
+        )
+        for n in names
+    ]
     results = render_clips(specs, Path(args.cache), jobs=args.jobs)
     out = Path(args.out)
     failed = 0
@@ -118,8 +136,10 @@ def _render(args: argparse.Namespace, prog: str) -> int:
                 shutil.copyfile(path, target / path.name)
         if r.ok:
             how = f"rendered in {r.seconds:.1f} s" if r.rendered else "cached"
-            print(f"ok      {r.name}: {r.meta.get('frames')} frames "
-                  f"{r.meta.get('width')}x{r.meta.get('height')}, {how} -> {target}/")
+            print(
+                f"ok      {r.name}: {r.meta.get('frames')} frames "
+                f"{r.meta.get('width')}x{r.meta.get('height')}, {how} -> {target}/"
+            )
         else:
             failed += 1
             kept = f" (kept the previous clip in {target}/)" if r.stale else ""

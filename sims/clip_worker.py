@@ -45,24 +45,45 @@ def render_job(job: dict[str, Any]) -> dict[str, Any]:
                 poster.append(image)
             video.write(image)
 
-        recording, renderer = record(plan, fps=spec.fps, seconds=spec.seconds, on_frame=on_frame,
-                                     deadline=time.monotonic() + job["time_limit"],
-                                     render_with=requested_renderer())
+        recording, renderer = record(
+            plan,
+            fps=spec.fps,
+            seconds=spec.seconds,
+            on_frame=on_frame,
+            deadline=time.monotonic() + job["time_limit"],
+            render_with=requested_renderer(),
+        )
         written = video.frames
     write_png(out / FILES["poster"], poster[0])
     title = f"{spec.scenario} (seed {plan.seed}): path of {recording.subject}"
     (out / FILES["plot"]).write_text(
         path_svg(recording.column("x"), recording.column("y"), title, recording.breaks),
-        encoding="utf-8")
+        encoding="utf-8",
+    )
     (out / FILES["csv"]).write_text(recording.to_csv(), encoding="utf-8")
-    header = {"kind": spec.kind, "scenario": spec.scenario, "seed": plan.seed,
-              "params": plan.params, "fps": spec.fps, "scene": plan.scene}
+    header = {
+        "kind": spec.kind,
+        "scenario": spec.scenario,
+        "seed": plan.seed,
+        "params": plan.params,
+        "fps": spec.fps,
+        "scene": plan.scene,
+    }
     (out / FILES["json"]).write_text(recording.to_json(**header), encoding="utf-8")
     meta = {
-        "kind": spec.kind, "scenario": spec.scenario, "description": plan.description,
-        "source": display_path(plan.source_path), "scene": plan.scene, "seed": plan.seed,
-        "params": plan.params, "duration": round(written / spec.fps, 3), "frames": written,
-        "fps": spec.fps, "width": spec.width, "height": spec.height, "renderer": renderer,
+        "kind": spec.kind,
+        "scenario": spec.scenario,
+        "description": plan.description,
+        "source": display_path(plan.source_path),
+        "scene": plan.scene,
+        "seed": plan.seed,
+        "params": plan.params,
+        "duration": round(written / spec.fps, 3),
+        "frames": written,
+        "fps": spec.fps,
+        "width": spec.width,
+        "height": spec.height,
+        "renderer": renderer,
         "files": dict(FILES),
     }
     (out / META).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n", encoding="utf-8")
@@ -77,12 +98,17 @@ def child_main(job: dict[str, Any]) -> None:
         meta = render_job(job)
         result = {"ok": True, "meta": meta}
     except RecordingTimeout as exc:
-        result = {"ok": False, "error": f"{label} passed its time limit of "
-                                        f"{_seconds(job['time_limit'])} ({exc})"}
+        result = {
+            "ok": False,
+            "error": f"{label} passed its time limit of {_seconds(job['time_limit'])} ({exc})",
+        }
     except Exception as exc:  # reported, not raised: the other clips go on
         where = traceback.extract_tb(exc.__traceback__)[-1]
-        result = {"ok": False, "error": f"{label} failed: {type(exc).__name__}: {exc} "
-                                        f"({Path(where.filename).name}:{where.lineno})"}
+        result = {
+            "ok": False,
+            "error": f"{label} failed: {type(exc).__name__}: {exc} "
+            f"({Path(where.filename).name}:{where.lineno})",
+        }
     result["seconds"] = round(time.monotonic() - started, 3)
     Path(job["out_dir"], RESULT).write_text(json.dumps(result), encoding="utf-8")
 

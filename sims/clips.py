@@ -106,14 +106,26 @@ class _Job:
 
 def spec_fields(spec: ClipSpec, seed: int, params: dict[str, Any]) -> dict[str, Any]:
     """The spec values that change the output (the clip name does not)."""
-    return {"kind": spec.kind, "scenario": spec.scenario, "params": params, "seed": seed,
-            "width": spec.width, "height": spec.height, "fps": spec.fps,
-            "seconds": spec.seconds, "renderer": requested_renderer()}
+    return {
+        "kind": spec.kind,
+        "scenario": spec.scenario,
+        "params": params,
+        "seed": seed,
+        "width": spec.width,
+        "height": spec.height,
+        "fps": spec.fps,
+        "seconds": spec.seconds,
+        "renderer": requested_renderer(),
+    }
 
 
-def render_clips(specs: Sequence[ClipSpec], cache_dir: str | Path, jobs: int | None = None,
-                 progress: Progress | None = None,
-                 timeout: float = DEFAULT_TIMEOUT) -> list[ClipResult]:
+def render_clips(
+    specs: Sequence[ClipSpec],
+    cache_dir: str | Path,
+    jobs: int | None = None,
+    progress: Progress | None = None,
+    timeout: float = DEFAULT_TIMEOUT,
+) -> list[ClipResult]:
     """Render (or fetch from cache) every spec; results come back in the order of ``specs``.
 
     ``jobs``: parallel workers (default: CPU count). ``timeout``: wall-clock seconds per clip.
@@ -127,8 +139,9 @@ def render_clips(specs: Sequence[ClipSpec], cache_dir: str | Path, jobs: int | N
     seen: set[str] = set()
     for i, spec in enumerate(specs):
         if spec.name in seen:
-            results[i] = _failed(cache_dir, spec, f"clip {spec.name!r} is listed twice", notify,
-                                 keep_stale=False)
+            results[i] = _failed(
+                cache_dir, spec, f"clip {spec.name!r} is listed twice", notify, keep_stale=False
+            )
             continue
         seen.add(spec.name)
         try:
@@ -143,8 +156,12 @@ def render_clips(specs: Sequence[ClipSpec], cache_dir: str | Path, jobs: int | N
         meta = cache.load_entry(cache_dir, key)
         if meta is not None:
             cache.set_latest(cache_dir, spec.name, key)
-            results[i] = ClipResult(spec.name, True, files=cache.entry_files(cache_dir, key),
-                                    meta={**meta, "name": spec.name, "key": key})
+            results[i] = ClipResult(
+                spec.name,
+                True,
+                files=cache.entry_files(cache_dir, key),
+                meta={**meta, "name": spec.name, "key": key},
+            )
             notify(ClipEvent(spec.name, "cached"))
             continue
         if key in followers:  # identical content under another name: render once
@@ -172,8 +189,9 @@ def _share(cache_dir: Path, spec: ClipSpec, done: ClipResult, notify: Progress) 
     key = done.meta["key"]
     cache.set_latest(cache_dir, spec.name, key)
     notify(ClipEvent(spec.name, "cached"))
-    return ClipResult(spec.name, True, files=dict(done.files),
-                      meta={**done.meta, "name": spec.name})
+    return ClipResult(
+        spec.name, True, files=dict(done.files), meta={**done.meta, "name": spec.name}
+    )
 
 
 def _check_spec(spec: ClipSpec) -> None:
@@ -191,8 +209,9 @@ def _worker_env() -> dict[str, str]:
     return env
 
 
-def _run_jobs(queue: list[_Job], workers: int, timeout: float,
-              notify: Progress) -> Iterator[tuple[_Job, dict[str, Any]]]:
+def _run_jobs(
+    queue: list[_Job], workers: int, timeout: float, notify: Progress
+) -> Iterator[tuple[_Job, dict[str, Any]]]:
     """Run jobs ``workers`` at a time; yields each as it ends with the worker's result dict."""
     env = _worker_env()
     pending = sorted(queue, key=lambda j: -j.frames * j.spec.width * j.spec.height)  # longest first
@@ -209,18 +228,32 @@ def _run_jobs(queue: list[_Job], workers: int, timeout: float,
             shutil.rmtree(job.tmp, ignore_errors=True)
 
 
-def _schedule(pending: list[_Job], running: list[_Job], workers: int, timeout: float,
-              env: dict[str, str], notify: Progress) -> Iterator[tuple[_Job, dict[str, Any]]]:
+def _schedule(
+    pending: list[_Job],
+    running: list[_Job],
+    workers: int,
+    timeout: float,
+    env: dict[str, str],
+    notify: Progress,
+) -> Iterator[tuple[_Job, dict[str, Any]]]:
     while pending or running:
         while pending and len(running) < workers:
             job = pending.pop(0)
-            payload = {"spec": asdict(job.spec), "target": job.target, "out_dir": str(job.tmp),
-                       "time_limit": timeout}
+            payload = {
+                "spec": asdict(job.spec),
+                "target": job.target,
+                "out_dir": str(job.tmp),
+                "time_limit": timeout,
+            }
             (job.tmp / JOB).write_text(json.dumps(payload), encoding="utf-8")
             with open(job.tmp / LOG, "wb") as log:
                 job.process = subprocess.Popen(
                     [sys.executable, "-m", "sims.clip_worker", str(job.tmp / JOB)],
-                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=log, env=env)
+                    stdin=subprocess.DEVNULL,
+                    stdout=subprocess.DEVNULL,
+                    stderr=log,
+                    env=env,
+                )
             job.started = time.monotonic()
             running.append(job)
             notify(ClipEvent(job.spec.name, "started"))
@@ -243,42 +276,64 @@ def _read_result(job: _Job, timeout: float, killed: bool) -> dict[str, Any]:
         return json.loads((job.tmp / RESULT).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         if killed:
-            return {"ok": False, "error": f"{label} passed its time limit of {timeout:g} s "
-                                          "(worker killed)"}
+            return {
+                "ok": False,
+                "error": f"{label} passed its time limit of {timeout:g} s (worker killed)",
+            }
         lines = (job.tmp / LOG).read_text(encoding="utf-8", errors="replace").strip().splitlines()
         last = f": {lines[-1]}" if lines else ""
-        return {"ok": False, "error": f"{label} crashed (worker exit code "
-                                      f"{job.process.returncode}){last}"}
+        return {
+            "ok": False,
+            "error": f"{label} crashed (worker exit code {job.process.returncode}){last}",
+        }
 
 
 def _finish(cache_dir: Path, job: _Job, outcome: dict[str, Any], notify: Progress) -> ClipResult:
     elapsed = round(job.ended - job.started, 3)
     if not outcome.get("ok"):
         shutil.rmtree(job.tmp, ignore_errors=True)
-        result = _failed(cache_dir, job.spec, outcome.get("error") or "unknown error", notify,
-                         seconds=elapsed)
+        result = _failed(
+            cache_dir, job.spec, outcome.get("error") or "unknown error", notify, seconds=elapsed
+        )
         return result
     for name in (RESULT, JOB, LOG):
         (job.tmp / name).unlink(missing_ok=True)
     cache.commit_entry(cache_dir, job.key, job.tmp)
     cache.set_latest(cache_dir, job.spec.name, job.key)
     notify(ClipEvent(job.spec.name, "done", elapsed))
-    return ClipResult(job.spec.name, True, rendered=True, seconds=elapsed,
-                      files=cache.entry_files(cache_dir, job.key),
-                      meta={**outcome["meta"], "name": job.spec.name, "key": job.key})
+    return ClipResult(
+        job.spec.name,
+        True,
+        rendered=True,
+        seconds=elapsed,
+        files=cache.entry_files(cache_dir, job.key),
+        meta={**outcome["meta"], "name": job.spec.name, "key": job.key},
+    )
 
 
-def _failed(cache_dir: Path, spec: ClipSpec, error: str, notify: Progress,
-            seconds: float = 0.0, keep_stale: bool = True) -> ClipResult:
+def _failed(
+    cache_dir: Path,
+    spec: ClipSpec,
+    error: str,
+    notify: Progress,
+    seconds: float = 0.0,
+    keep_stale: bool = True,
+) -> ClipResult:
     """A failed clip, carrying the previous good render of the same name when there is one."""
     notify(ClipEvent(spec.name, "failed", seconds, error))
     old = cache.latest_key(cache_dir, spec.name) if keep_stale else None
     if old is None:
         return ClipResult(spec.name, False, error=error, seconds=seconds)
     meta = cache.load_entry(cache_dir, old) or {}
-    return ClipResult(spec.name, False, error=error, stale=True, seconds=seconds,
-                      files=cache.entry_files(cache_dir, old),
-                      meta={**meta, "name": spec.name, "key": old})
+    return ClipResult(
+        spec.name,
+        False,
+        error=error,
+        stale=True,
+        seconds=seconds,
+        files=cache.entry_files(cache_dir, old),
+        meta={**meta, "name": spec.name, "key": old},
+    )
 
 
 if __name__ == "__main__":  # pragma: no cover - convenience: python -m sims.clips NAME...

@@ -38,8 +38,9 @@ def _label(value: float, step: float) -> str:
     return "0" if text.strip("-0.") == "" else text
 
 
-def path_svg(xs: Sequence[float], ys: Sequence[float], title: str,
-             run_starts: Sequence[int] = ()) -> str:
+def path_svg(
+    xs: Sequence[float], ys: Sequence[float], title: str, run_starts: Sequence[int] = ()
+) -> str:
     """SVG text: the x-y path (metres) with axes, ticks, labels, start dot and end square."""
     if not xs:
         xs, ys = [0.0], [0.0]
@@ -57,36 +58,56 @@ def path_svg(xs: Sequence[float], ys: Sequence[float], title: str,
     def sy(y: float) -> float:
         return TOP + (yhi - y) * scale
 
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" '
-           f'viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="11">',
-           f'<rect x="0" y="0" width="{WIDTH}" height="{HEIGHT}" fill="#ffffff"/>',
-           f'<text x="{WIDTH / 2:.1f}" y="20" text-anchor="middle" font-size="13">{escape(title)}</text>']
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" '
+        f'viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="11">',
+        f'<rect x="0" y="0" width="{WIDTH}" height="{HEIGHT}" fill="#ffffff"/>',
+        f'<text x="{WIDTH / 2:.1f}" y="20" text-anchor="middle" font-size="13">{escape(title)}</text>',
+    ]
     step = nice_step(span)
     for t in _ticks(xlo, xhi, step):
-        out.append(f'<line x1="{sx(t):.1f}" y1="{TOP}" x2="{sx(t):.1f}" y2="{TOP + ph}" stroke="#e5e5e5"/>')
-        out.append(f'<text x="{sx(t):.1f}" y="{TOP + ph + 15}" text-anchor="middle">{_label(t, step)}</text>')
+        out.append(
+            f'<line x1="{sx(t):.1f}" y1="{TOP}" x2="{sx(t):.1f}" y2="{TOP + ph}" stroke="#e5e5e5"/>'
+        )
+        out.append(
+            f'<text x="{sx(t):.1f}" y="{TOP + ph + 15}" text-anchor="middle">{_label(t, step)}</text>'
+        )
     for t in _ticks(ylo, yhi, step):
-        out.append(f'<line x1="{LEFT}" y1="{sy(t):.1f}" x2="{LEFT + pw}" y2="{sy(t):.1f}" stroke="#e5e5e5"/>')
-        out.append(f'<text x="{LEFT - 6}" y="{sy(t) + 4:.1f}" text-anchor="end">{_label(t, step)}</text>')
-    out.append(f'<rect x="{LEFT}" y="{TOP}" width="{pw}" height="{ph}" fill="none" stroke="#333333"/>')
+        out.append(
+            f'<line x1="{LEFT}" y1="{sy(t):.1f}" x2="{LEFT + pw}" y2="{sy(t):.1f}" stroke="#e5e5e5"/>'
+        )
+        out.append(
+            f'<text x="{LEFT - 6}" y="{sy(t) + 4:.1f}" text-anchor="end">{_label(t, step)}</text>'
+        )
+    out.append(
+        f'<rect x="{LEFT}" y="{TOP}" width="{pw}" height="{ph}" fill="none" stroke="#333333"/>'
+    )
     out.append(f'<text x="{LEFT + pw / 2:.1f}" y="{HEIGHT - 14}" text-anchor="middle">x (m)</text>')
-    out.append(f'<text x="16" y="{TOP + ph / 2:.1f}" text-anchor="middle" '
-               f'transform="rotate(-90 16 {TOP + ph / 2:.1f})">y (m)</text>')
+    out.append(
+        f'<text x="16" y="{TOP + ph / 2:.1f}" text-anchor="middle" '
+        f'transform="rotate(-90 16 {TOP + ph / 2:.1f})">y (m)</text>'
+    )
 
     bounds = [0, *[b for b in run_starts if 0 < b < len(xs)], len(xs)]
     runs = [(bounds[i], bounds[i + 1]) for i in range(len(bounds) - 1) if bounds[i] < bounds[i + 1]]
     for n, (a, b) in enumerate(runs):
         colour = COLOURS[n % len(COLOURS)]
         points = " ".join(f"{sx(x):.1f},{sy(y):.1f}" for x, y in zip(xs[a:b], ys[a:b], strict=True))
-        out.append(f'<polyline points="{points}" fill="none" stroke="{colour}" stroke-width="1.6" '
-                   f'stroke-linejoin="round"/>')
+        out.append(
+            f'<polyline points="{points}" fill="none" stroke="{colour}" stroke-width="1.6" '
+            f'stroke-linejoin="round"/>'
+        )
         out.append(f'<circle cx="{sx(xs[a]):.1f}" cy="{sy(ys[a]):.1f}" r="3.5" fill="{colour}"/>')
-        out.append(f'<rect x="{sx(xs[b - 1]) - 3.5:.1f}" y="{sy(ys[b - 1]) - 3.5:.1f}" width="7" '
-                   f'height="7" fill="none" stroke="{colour}" stroke-width="1.6"/>')
+        out.append(
+            f'<rect x="{sx(xs[b - 1]) - 3.5:.1f}" y="{sy(ys[b - 1]) - 3.5:.1f}" width="7" '
+            f'height="7" fill="none" stroke="{colour}" stroke-width="1.6"/>'
+        )
         if len(runs) > 1:
             ly = TOP + 14 + 14 * n
-            out.append(f'<line x1="{LEFT + pw - 58}" y1="{ly - 4}" x2="{LEFT + pw - 44}" y2="{ly - 4}" '
-                       f'stroke="{colour}" stroke-width="2"/>')
+            out.append(
+                f'<line x1="{LEFT + pw - 58}" y1="{ly - 4}" x2="{LEFT + pw - 44}" y2="{ly - 4}" '
+                f'stroke="{colour}" stroke-width="2"/>'
+            )
             out.append(f'<text x="{LEFT + pw - 40}" y="{ly}">run {n + 1}</text>')
     out.append(f'<text x="{LEFT}" y="{HEIGHT - 14}" fill="#666666">● start  □ end</text>')
     out.append("</svg>")

@@ -77,8 +77,13 @@ class Recording:
 
     def to_dict(self) -> dict[str, Any]:
         rows = [[None if v == "" else float(v) for v in r] for r in self.rounded_rows()]
-        return {"subject": self.subject, "columns": self.columns, "samples": rows,
-                "events": self.events, "run_starts": self.breaks}
+        return {
+            "subject": self.subject,
+            "columns": self.columns,
+            "samples": rows,
+            "events": self.events,
+            "run_starts": self.breaks,
+        }
 
     def to_json(self, **extra: Any) -> str:
         data = {**extra, **self.to_dict()}
@@ -88,10 +93,19 @@ class Recording:
 class Recorder:
     """Samples ``world`` at ``fps`` for ``frames`` samples; scenarios get it as ``record``."""
 
-    def __init__(self, world: World, *, fps: float, frames: int, follow: str | None = None,
-                 joints: tuple[str, ...] = (), quantity: str = "angle",
-                 extra_columns: tuple[str, ...] = (), on_frame: FrameSink | None = None,
-                 deadline: float | None = None):
+    def __init__(
+        self,
+        world: World,
+        *,
+        fps: float,
+        frames: int,
+        follow: str | None = None,
+        joints: tuple[str, ...] = (),
+        quantity: str = "angle",
+        extra_columns: tuple[str, ...] = (),
+        on_frame: FrameSink | None = None,
+        deadline: float | None = None,
+    ):
         if quantity not in ("angle", "speed"):
             raise ValueError(f"quantity must be 'angle' or 'speed', not {quantity!r}")
         self.world = world
@@ -167,8 +181,11 @@ class Recorder:
         euler = [math.degrees(a) for a in w.object_orientation(self.follow)]
         row: list[float | None] = [self.time, x, y, z, *euler, math.degrees(w.heading(self.follow))]
         for j in self.joints:
-            row.append(math.degrees(w.joint_position(j)) if self.quantity == "angle"
-                       else w.joint_velocity(j))
+            row.append(
+                math.degrees(w.joint_position(j))
+                if self.quantity == "angle"
+                else w.joint_velocity(j)
+            )
         row += list(self._extra.values())
         self.recording.rows.append(row)
         if self.on_frame is not None:
@@ -189,19 +206,31 @@ def drive(world: World, recorder: Recorder, run: Callable[[World, Recorder], Non
     return recorder.finish()
 
 
-def record(plan: RecordingPlan, *, fps: float, seconds: float | None = None,
-           on_frame: FrameSink | None = None, deadline: float | None = None,
-           render_with: str | None = None) -> tuple[Recording, str]:
+def record(
+    plan: RecordingPlan,
+    *,
+    fps: float,
+    seconds: float | None = None,
+    on_frame: FrameSink | None = None,
+    deadline: float | None = None,
+    render_with: str | None = None,
+) -> tuple[Recording, str]:
     """Run ``plan`` in a fresh World for ``seconds`` (default: its duration) at ``fps``.
 
     The one place a plan meets a World: clips (with ``on_frame`` filming) and run_scenario
     (data only) both come through here. Returns the samples and the renderer that ran.
     """
     length = plan.duration if seconds is None else seconds
-    with World(plan.scene, seed=plan.seed, render_with=render_with,
-               **plan.scene_options) as world:
-        recorder = Recorder(world, fps=fps, frames=max(1, round(length * fps)),
-                            follow=plan.follow, joints=plan.joints, quantity=plan.joint_quantity,
-                            extra_columns=plan.extra_columns, on_frame=on_frame,
-                            deadline=deadline)
+    with World(plan.scene, seed=plan.seed, render_with=render_with, **plan.scene_options) as world:
+        recorder = Recorder(
+            world,
+            fps=fps,
+            frames=max(1, round(length * fps)),
+            follow=plan.follow,
+            joints=plan.joints,
+            quantity=plan.joint_quantity,
+            extra_columns=plan.extra_columns,
+            on_frame=on_frame,
+            deadline=deadline,
+        )
         return drive(world, recorder, plan.drive), world.renderer

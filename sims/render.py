@@ -64,8 +64,11 @@ class Renderer:
             self.fallback_reason = "eglRenderer plugin not found"
             return
         with quiet_fd(1), quiet_fd(2):
-            plugin = p.loadPlugin(loader.get_filename(), "_eglRendererPlugin",  # type: ignore[attr-defined]
-                                  physicsClientId=self.world.client_id)
+            plugin = p.loadPlugin(
+                loader.get_filename(),
+                "_eglRendererPlugin",  # type: ignore[attr-defined]
+                physicsClientId=self.world.client_id,
+            )
         if plugin < 0:
             self.fallback_reason = "could not load the EGL plugin"
             return
@@ -110,9 +113,16 @@ class Renderer:
         self._last_size = (width, height)
         with quiet_fd(1), quiet_fd(2):  # EGL prints driver details whenever the size changes
             for _ in range(repeats):
-                img = p.getCameraImage(width, height, view, proj, renderer=engine,
-                                       lightDirection=LIGHT_DIRECTION, shadow=1,
-                                       flags=p.ER_NO_SEGMENTATION_MASK,
-                                       physicsClientId=world.client_id)
+                img = p.getCameraImage(
+                    width,
+                    height,
+                    view,
+                    proj,
+                    renderer=engine,
+                    lightDirection=LIGHT_DIRECTION,
+                    shadow=1,
+                    flags=p.ER_NO_SEGMENTATION_MASK,
+                    physicsClientId=world.client_id,
+                )
         rgba = np.asarray(img[2], dtype=np.uint8).reshape(height, width, 4)
         return np.ascontiguousarray(rgba[:, :, :3])

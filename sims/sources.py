@@ -68,8 +68,9 @@ def scenario_plan(spec: ClipSpec) -> RecordingPlan:
     return plan_scenario(spec.scenario, spec.seed, spec.params)
 
 
-def plan_scenario(name: str, seed: int | None = None,
-                  params: dict[str, Any] | None = None) -> RecordingPlan:
+def plan_scenario(
+    name: str, seed: int | None = None, params: dict[str, Any] | None = None
+) -> RecordingPlan:
     from sims.scenarios import get_scenario
 
     scenario = get_scenario(name)

@@ -39,8 +39,9 @@ class WebmWriter:
         self.size = (width, height)
         self.frames = 0
         with quiet_fd(2):
-            self._writer = cv2.VideoWriter(str(self.path), cv2.VideoWriter_fourcc(*FOURCC),
-                                           float(fps), self.size)
+            self._writer = cv2.VideoWriter(
+                str(self.path), cv2.VideoWriter_fourcc(*FOURCC), float(fps), self.size
+            )
         if not self._writer.isOpened():
             raise VideoError(f"OpenCV could not open a {FOURCC} WebM writer for {self.path}")
         self._queue: queue.Queue[np.ndarray | None] = queue.Queue(maxsize=4)
@@ -60,7 +61,9 @@ class WebmWriter:
         if self._error is not None:
             raise VideoError(f"encoding {self.path.name} failed: {self._error}")
         if rgb.shape[1::-1] != self.size:
-            raise VideoError(f"frame is {rgb.shape[1]}x{rgb.shape[0]}, clip is {self.size[0]}x{self.size[1]}")
+            raise VideoError(
+                f"frame is {rgb.shape[1]}x{rgb.shape[0]}, clip is {self.size[0]}x{self.size[1]}"
+            )
         self._queue.put(rgb)
         self.frames += 1
 

@@ -27,8 +27,15 @@ GRAVITY = -9.81
 class World:
     """One pybullet physics client in DIRECT mode holding one scene ("2w1a" or "cart")."""
 
-    def __init__(self, scene: str, seed: int = 0, timestep: float = 0.005, *,
-                 render_with: str | None = None, **scene_options: Any):
+    def __init__(
+        self,
+        scene: str,
+        seed: int = 0,
+        timestep: float = 0.005,
+        *,
+        render_with: str | None = None,
+        **scene_options: Any,
+    ):
         """``render_with``: "egl" or "auto" loads pybullet's EGL renderer plugin *before* the
         scene is built (the plugin only sees shapes created after it loads), falling back to
         TinyRenderer if it fails; None/"tinyrenderer" uses TinyRenderer."""
@@ -214,10 +221,17 @@ class World:
         kw: dict[str, float] = {}
         if j.max_velocity is not None:
             kw["maxVelocity"] = j.max_velocity
-        p.setJointMotorControl2(j.body, j.index, p.POSITION_CONTROL,
-                                targetPosition=(rad - j.zero) * j.sign, force=j.max_force,
-                                positionGain=j.position_gain, velocityGain=j.velocity_gain,
-                                physicsClientId=self._cid, **kw)
+        p.setJointMotorControl2(
+            j.body,
+            j.index,
+            p.POSITION_CONTROL,
+            targetPosition=(rad - j.zero) * j.sign,
+            force=j.max_force,
+            positionGain=j.position_gain,
+            velocityGain=j.velocity_gain,
+            physicsClientId=self._cid,
+            **kw,
+        )
 
     def set_joint_target_velocity(self, handle: int | str, rad_s: float) -> None:
         """Velocity control with the joint's max torque (CoppeliaSim: motor on, position off).
@@ -226,21 +240,35 @@ class World:
         until the next set_joint_target_position; CoppeliaSim would instead keep position
         control and ignore the velocity. Scripts in the course never do this."""
         j = self._joint(handle)
-        p.setJointMotorControl2(j.body, j.index, p.VELOCITY_CONTROL, targetVelocity=rad_s * j.sign,
-                                force=j.max_force, physicsClientId=self._cid)
+        p.setJointMotorControl2(
+            j.body,
+            j.index,
+            p.VELOCITY_CONTROL,
+            targetVelocity=rad_s * j.sign,
+            force=j.max_force,
+            physicsClientId=self._cid,
+        )
 
     def _init_motor(self, j: JointRef) -> None:
         c = self._cid
         if j.lower is not None and j.upper is not None:
             a, b = sorted(((j.lower - j.zero) * j.sign, (j.upper - j.zero) * j.sign))
-            p.changeDynamics(j.body, j.index, jointLowerLimit=a, jointUpperLimit=b, physicsClientId=c)
+            p.changeDynamics(
+                j.body, j.index, jointLowerLimit=a, jointUpperLimit=b, physicsClientId=c
+            )
         if j.mode == "position":
             self.set_joint_target_position(j.name, j.zero)
         elif j.mode == "velocity":
             self.set_joint_target_velocity(j.name, 0.0)
         else:  # free: pybullet's default velocity motor replaced by a small friction torque
-            p.setJointMotorControl2(j.body, j.index, p.VELOCITY_CONTROL, targetVelocity=0.0,
-                                    force=j.friction_torque, physicsClientId=c)
+            p.setJointMotorControl2(
+                j.body,
+                j.index,
+                p.VELOCITY_CONTROL,
+                targetVelocity=0.0,
+                force=j.friction_torque,
+                physicsClientId=c,
+            )
 
     # -- sensors and contacts ----------------------------------------------------------------
     def proximity_scan(self, name: str) -> list[float | None]:

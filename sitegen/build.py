@@ -68,22 +68,43 @@ class BuildReport:
 def resolve_paths(opts: BuildOptions) -> tuple[Config, Path, Path, Path]:
     source = opts.source.resolve()
     if not source.is_dir():
-        raise BuildError("bad source", [Diagnostic(str(opts.source), None, "--source", "is not a folder")])
+        raise BuildError(
+            "bad source", [Diagnostic(str(opts.source), None, "--source", "is not a folder")]
+        )
     config = load_config(source)
     project = config.source_file is not None
     content = (source / config.content_dir) if project else source
     if not content.is_dir():
-        raise BuildError("no content", [Diagnostic(str(content), None, "content_dir", "folder not found")])
+        raise BuildError(
+            "no content", [Diagnostic(str(content), None, "content_dir", "folder not found")]
+        )
     output = (opts.output or (source / config.output_dir if project else Path("site"))).resolve()
     if output == source or output == content or content.is_relative_to(output):
-        raise BuildError("bad output", [Diagnostic(str(output), None, "--output", "must not be the source folder or contain it")])
-    cache_dir = opts.cache_dir or (source / ".sitegen-cache" if project else output.parent / f".sitegen-cache-{output.name}")
+        raise BuildError(
+            "bad output",
+            [
+                Diagnostic(
+                    str(output), None, "--output", "must not be the source folder or contain it"
+                )
+            ],
+        )
+    cache_dir = opts.cache_dir or (
+        source / ".sitegen-cache" if project else output.parent / f".sitegen-cache-{output.name}"
+    )
     return config, content, output, cache_dir.resolve()
 
 
 def to_input(page: SourcePage) -> PageInput:
-    return PageInput(page.rel, page.meta, page.text, page.is_index, page.prefix, page.stem,
-                     body_line=page.body_line, digest=page.digest)
+    return PageInput(
+        page.rel,
+        page.meta,
+        page.text,
+        page.is_index,
+        page.prefix,
+        page.stem,
+        body_line=page.body_line,
+        digest=page.digest,
+    )
 
 
 def build(opts: BuildOptions) -> BuildReport:
@@ -96,13 +117,21 @@ def build(opts: BuildOptions) -> BuildReport:
     state = State() if opts.clean else cache.load_state()
 
     tree = scan(content_root, diags, exclude={output, cache_dir})
-    theme = Theme((config.root / config.templates_dir) if config.templates_dir else
-                  (config.root / "templates" if config.source_file else None))
+    theme = Theme(
+        (config.root / config.templates_dir)
+        if config.templates_dir
+        else (config.root / "templates" if config.source_file else None)
+    )
     theme_digest = theme.digest()
     integrations = make_integrations(config, cache_dir, opts)
     fingerprint = _fingerprint(config, tree, theme_digest, integrations)
-    if (not opts.clean and state.fingerprint == fingerprint and state.output == str(output)
-            and not diags.items and output_intact(output, state.manifest)):
+    if (
+        not opts.clean
+        and state.fingerprint == fingerprint
+        and state.output == str(output)
+        and not diags.items
+        and output_intact(output, state.manifest)
+    ):
         report.up_to_date = True
         report.seconds = time.perf_counter() - started
         return report
@@ -133,9 +162,18 @@ def build(opts: BuildOptions) -> BuildReport:
         body = rendered.html
         if src is not None and src.body_html is None:
             # links first: directive output is generated with final relative URLs already
-            body = rewrite_links(body, node, targets, diags, f"{content_root.name}/{file}", src.text, src.body_line)
-            body = expand_directives(body, node, handlers, diags, f"{content_root.name}/{file}",
-                                     rendered.directives, src.body_line)
+            body = rewrite_links(
+                body, node, targets, diags, f"{content_root.name}/{file}", src.text, src.body_line
+            )
+            body = expand_directives(
+                body,
+                node,
+                handlers,
+                diags,
+                f"{content_root.name}/{file}",
+                rendered.directives,
+                src.body_line,
+            )
         bodies[node.url] = PageBody(body, rendered.toc, rendered.text)
         ctx = page_context(site, node, bodies[node.url], base)
         key = context_hash(ctx, theme_digest, menu_signature(node))
@@ -152,14 +190,18 @@ def build(opts: BuildOptions) -> BuildReport:
         files[rel] = from_bytes(data)
     for rel, data in theme.assets().items():
         files[rel] = from_bytes(data)
-    files["assets/search-index.js"] = from_bytes(search_script(search_records(search_entries(site, bodies))))
+    files["assets/search-index.js"] = from_bytes(
+        search_script(search_records(search_entries(site, bodies)))
+    )
     files[".nojekyll"] = from_bytes(b"")
     if config.base_url:
         files["sitemap.xml"] = from_bytes(sitemap_xml(site, config.base_url))
     for asset in tree.assets:
         rel = str(asset.rel)
         if rel in files:
-            diags.error(f"{content_root.name}/{rel}", None, "", f"clashes with a generated file '{rel}'")
+            diags.error(
+                f"{content_root.name}/{rel}", None, "", f"clashes with a generated file '{rel}'"
+            )
             continue
         files[rel] = OutFile(asset.digest, source=asset.path)
     for integ in integrations:
@@ -170,7 +212,9 @@ def build(opts: BuildOptions) -> BuildReport:
     report.diagnostics = sorted(diags.items, key=lambda d: (d.file, d.line or 0, d.message))
     if diags.errors or (opts.strict and diags.warnings):
         why = "errors" if diags.errors else "warnings (--strict)"
-        raise BuildError(f"build failed with {why}; the previous site was left as it was", report.diagnostics)
+        raise BuildError(
+            f"build failed with {why}; the previous site was left as it was", report.diagnostics
+        )
 
     manifest, report.changed = publish(output, files, state.manifest)
     new_state = State(fingerprint if not diags.warnings else "", str(output), manifest)
@@ -196,9 +240,13 @@ def _render_markdown(site, frag: Fragments, report: BuildReport):
             renders[node.url] = Rendered("", [], [], "")
             continue
         if src.body_html is not None:
-            renders[node.url] = Rendered(src.body_html, src.toc or [], _ids(src.body_html), plain_text(src.body_html))
+            renders[node.url] = Rendered(
+                src.body_html, src.toc or [], _ids(src.body_html), plain_text(src.body_html)
+            )
             continue
-        key = hashlib.sha256(f"{RENDER_VERSION}\0{node.strip_first_heading}\0{src.text}".encode()).hexdigest()
+        key = hashlib.sha256(
+            f"{RENDER_VERSION}\0{node.strip_first_heading}\0{src.text}".encode()
+        ).hexdigest()
         cached = frag.markdown.get(key)
         if cached is None:
             renderer = renderer or MarkdownRenderer()
@@ -219,7 +267,9 @@ def _check_collisions(inputs: list[PageInput], diags: Diagnostics) -> None:
     seen: dict[PurePosixPath, PageInput] = {}
     for p in inputs:
         if p.rel in seen:
-            diags.error(str(p.rel), None, "", "a generated page has the same path as a content page")
+            diags.error(
+                str(p.rel), None, "", "a generated page has the same path as a content page"
+            )
         seen[p.rel] = p
 
 

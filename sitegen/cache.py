@@ -30,8 +30,10 @@ class State:
 
 @dataclass
 class Fragments:
-    markdown: dict[str, Any] = field(default_factory=dict)   # source key -> Rendered
-    pages: dict[str, tuple[str, str]] = field(default_factory=dict)  # url -> (context hash, output digest)
+    markdown: dict[str, Any] = field(default_factory=dict)  # source key -> Rendered
+    pages: dict[str, tuple[str, str]] = field(
+        default_factory=dict
+    )  # url -> (context hash, output digest)
 
 
 class Cache:
@@ -48,9 +50,16 @@ class Cache:
             return State()
 
     def save_state(self, state: State) -> None:
-        data = {"format": FORMAT, "fingerprint": state.fingerprint, "output": state.output,
-                "manifest": state.manifest, "rosters": state.rosters}
-        self._write(self.dir / "state.json", json.dumps(data, ensure_ascii=False, sort_keys=True).encode())
+        data = {
+            "format": FORMAT,
+            "fingerprint": state.fingerprint,
+            "output": state.output,
+            "manifest": state.manifest,
+            "rosters": state.rosters,
+        }
+        self._write(
+            self.dir / "state.json", json.dumps(data, ensure_ascii=False, sort_keys=True).encode()
+        )
 
     def load_fragments(self) -> Fragments:
         try:
@@ -61,7 +70,10 @@ class Cache:
             return Fragments()
 
     def save_fragments(self, frag: Fragments) -> None:
-        self._write(self.dir / "fragments.pickle", pickle.dumps((FORMAT, frag), protocol=pickle.HIGHEST_PROTOCOL))
+        self._write(
+            self.dir / "fragments.pickle",
+            pickle.dumps((FORMAT, frag), protocol=pickle.HIGHEST_PROTOCOL),
+        )
 
     def _write(self, path: Path, data: bytes) -> None:
         self.dir.mkdir(parents=True, exist_ok=True)

@@ -12,8 +12,16 @@ from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
-_ASSET_TAGS = {("script", "src"), ("link", "href"), ("img", "src"), ("video", "src"),
-               ("video", "poster"), ("source", "src"), ("audio", "src"), ("iframe", "src")}
+_ASSET_TAGS = {
+    ("script", "src"),
+    ("link", "href"),
+    ("img", "src"),
+    ("video", "src"),
+    ("video", "poster"),
+    ("source", "src"),
+    ("audio", "src"),
+    ("iframe", "src"),
+}
 
 
 class _Collector(HTMLParser):
@@ -60,11 +68,20 @@ def check_site(site_dir: Path) -> list[str]:
     return problems
 
 
-def _check_ref(site_dir: Path, parsed: dict[str, _Collector], rel: str, c: _Collector,
-               tag: str, attr: str, url: str) -> str | None:
+def _check_ref(
+    site_dir: Path,
+    parsed: dict[str, _Collector],
+    rel: str,
+    c: _Collector,
+    tag: str,
+    attr: str,
+    url: str,
+) -> str | None:
     parts = urlsplit(url)
     if parts.scheme or url.startswith("//"):
-        if (tag, attr) in _ASSET_TAGS and (parts.scheme in ("http", "https") or url.startswith("//")):
+        if (tag, attr) in _ASSET_TAGS and (
+            parts.scheme in ("http", "https") or url.startswith("//")
+        ):
             return f"<{tag} {attr}> loads '{url}' from outside the site"
         return None
     if not parts.path:

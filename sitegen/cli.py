@@ -18,7 +18,10 @@ from sitegen.errors import BuildError
 DELEGATED = {
     "roster": ("roster.cli", "rosters: check a roster, print its links"),
     "sims": ("sims.cli", "simulations: list scenarios, render clips"),
-    "remote-api": ("sims.remote_api.cli", "run a CoppeliaSim remote API script on a pybullet scene"),
+    "remote-api": (
+        "sims.remote_api.cli",
+        "run a CoppeliaSim remote API script on a pybullet scene",
+    ),
     "import": ("sitegen.importers.cli", "import an existing site (cmsimde)"),
 }
 
@@ -31,25 +34,57 @@ class _Parser(argparse.ArgumentParser):
 
 
 def make_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="sitegen", description="Static course-site generator with a simulation gallery.")
+    parser = _Parser(
+        prog="sitegen", description="Static course-site generator with a simulation gallery."
+    )
     parser.add_argument("--version", action="version", version=f"sitegen {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    b = sub.add_parser("build", help="build the static site", description="Build content/ (or any folder of Markdown) into a static site.")
+    b = sub.add_parser(
+        "build",
+        help="build the static site",
+        description="Build content/ (or any folder of Markdown) into a static site.",
+    )
     _build_args(b)
-    s = sub.add_parser("serve", help="build, serve on 127.0.0.1, rebuild on change", description="Build, serve the site on 127.0.0.1, rebuild when a source changes and reload the open page.")
+    s = sub.add_parser(
+        "serve",
+        help="build, serve on 127.0.0.1, rebuild on change",
+        description="Build, serve the site on 127.0.0.1, rebuild when a source changes and reload the open page.",
+    )
     _build_args(s)
-    s.add_argument("--port", type=int, default=8000, help="port on 127.0.0.1 (default 8000; 0 picks a free one)")
-    c = sub.add_parser("check", help="check a built site offline", description="Check a built site offline: internal links, anchors, images, scripts.")
-    c.add_argument("dir", nargs="?", default="site", type=Path, help="the built site (default: site)")
+    s.add_argument(
+        "--port",
+        type=int,
+        default=8000,
+        help="port on 127.0.0.1 (default 8000; 0 picks a free one)",
+    )
+    c = sub.add_parser(
+        "check",
+        help="check a built site offline",
+        description="Check a built site offline: internal links, anchors, images, scripts.",
+    )
+    c.add_argument(
+        "dir", nargs="?", default="site", type=Path, help="the built site (default: site)"
+    )
     for name, (_mod, help_text) in DELEGATED.items():
         sub.add_parser(name, help=help_text, add_help=False)
     return parser
 
 
 def _build_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--source", type=Path, default=Path("."), help="project folder with sitegen.yml, or any folder of Markdown (default: .)")
-    p.add_argument("--output", type=Path, default=None, help="where to write the site (default: site/)")
-    p.add_argument("--strict", action="store_true", help="treat warnings (broken links, failed clips) as errors")
+    p.add_argument(
+        "--source",
+        type=Path,
+        default=Path("."),
+        help="project folder with sitegen.yml, or any folder of Markdown (default: .)",
+    )
+    p.add_argument(
+        "--output", type=Path, default=None, help="where to write the site (default: site/)"
+    )
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="treat warnings (broken links, failed clips) as errors",
+    )
     p.add_argument("--clean", action="store_true", help="ignore the cache and rebuild everything")
 
 
@@ -93,8 +128,13 @@ def main(argv: list[str] | None = None) -> int:
 def _build(args: argparse.Namespace) -> int:
     from sitegen.build import BuildOptions, build
 
-    opts = BuildOptions(source=args.source, output=args.output, strict=args.strict, clean=args.clean,
-                        is_tty=sys.stderr.isatty())
+    opts = BuildOptions(
+        source=args.source,
+        output=args.output,
+        strict=args.strict,
+        clean=args.clean,
+        is_tty=sys.stderr.isatty(),
+    )
     report = build(opts)
     for d in report.diagnostics:
         print(d, file=sys.stderr)

@@ -116,23 +116,56 @@ class _Checker:
             "bool": isinstance(value, bool),
         }[kind]
         if not ok:
-            names = {"str": "a string", "int": "a whole number", "num": "a number", "bool": "true or false"}
+            names = {
+                "str": "a string",
+                "int": "a whole number",
+                "num": "a number",
+                "bool": "true or false",
+            }
             self.fail(node, key, f"must be {names[kind]}, got {value!r}")
             return None
         return value
 
 
 _TOP = {
-    "title": "str", "language": "str", "base_url": "str", "course_repo": "str",
-    "description": "str", "author": "str", "content_dir": "str", "templates_dir": "str",
-    "output_dir": "str", "rosters": "list", "sims": "map",
+    "title": "str",
+    "language": "str",
+    "base_url": "str",
+    "course_repo": "str",
+    "description": "str",
+    "author": "str",
+    "content_dir": "str",
+    "templates_dir": "str",
+    "output_dir": "str",
+    "rosters": "list",
+    "sims": "map",
 }
-_ROSTER = {"name": "str", "file": "str", "corrections": "str", "section": "str", "title": "str",
-           "weight": "int"}
-_SIMS = {"section": "str", "title": "str", "size": "str", "fps": "int", "jobs": "int",
-         "timeout": "num", "clips": "list"}
-_CLIP = {"name": "str", "scenario": "str", "script": "str", "scene": "str", "seed": "int",
-         "seconds": "num", "after": "num"}
+_ROSTER = {
+    "name": "str",
+    "file": "str",
+    "corrections": "str",
+    "section": "str",
+    "title": "str",
+    "weight": "int",
+}
+_SIMS = {
+    "section": "str",
+    "title": "str",
+    "size": "str",
+    "fps": "int",
+    "jobs": "int",
+    "timeout": "num",
+    "clips": "list",
+}
+_CLIP = {
+    "name": "str",
+    "scenario": "str",
+    "script": "str",
+    "scene": "str",
+    "seed": "int",
+    "seconds": "num",
+    "after": "num",
+}
 
 
 def _values(ck: _Checker, nodes: dict[str, yaml.Node], schema: dict[str, str], prefix: str) -> dict:
@@ -162,7 +195,10 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = mark.line + 1 if mark else None
-        raise BuildError("invalid sitegen.yml", [Diagnostic(file, line, "", f"not valid YAML: {getattr(exc, 'problem', exc)}")]) from None
+        raise BuildError(
+            "invalid sitegen.yml",
+            [Diagnostic(file, line, "", f"not valid YAML: {getattr(exc, 'problem', exc)}")],
+        ) from None
     if node is None:
         return Config(root=root, source_file=root / file)
     top = ck.mapping(node, "", _TOP)
@@ -179,11 +215,17 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     if "base_url" in values:
         url = values["base_url"]
         if not re.match(r"^https?://[^\s/]+(/[^\s]*)?$", url):
-            ck.fail(top["base_url"], "base_url", "must be an http(s) URL, e.g. https://user.github.io/repo/")
+            ck.fail(
+                top["base_url"],
+                "base_url",
+                "must be an http(s) URL, e.g. https://user.github.io/repo/",
+            )
         else:
             kwargs["base_url"] = url if url.endswith("/") else url + "/"
     if "course_repo" in values and not re.match(r"^[A-Za-z0-9._-]+$", values["course_repo"]):
-        ck.fail(top["course_repo"], "course_repo", "must be a repository name (letters, digits, . _ -)")
+        ck.fail(
+            top["course_repo"], "course_repo", "must be a repository name (letters, digits, . _ -)"
+        )
     for key in ("content_dir", "output_dir"):
         if key in values:
             kwargs[key] = Path(values[key])
@@ -210,19 +252,25 @@ def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
         v = _values(ck, nodes, _ROSTER, where + ".")
         if not (_require(ck, item, v, "name", where) and _require(ck, item, v, "file", where)):
             continue
-        out.append(RosterConfig(
-            name=v["name"], file=root / v["file"],
-            corrections=root / v["corrections"] if "corrections" in v else None,
-            section=v.get("section", ""), title=v.get("title", v["name"]),
-            weight=v.get("weight", 0),
-        ))
+        out.append(
+            RosterConfig(
+                name=v["name"],
+                file=root / v["file"],
+                corrections=root / v["corrections"] if "corrections" in v else None,
+                section=v.get("section", ""),
+                title=v.get("title", v["name"]),
+                weight=v.get("weight", 0),
+            )
+        )
     return out
 
 
 def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
     nodes = ck.mapping(node, "sims", _SIMS)
     v = _values(ck, nodes, _SIMS, "sims.")
-    kwargs: dict[str, Any] = {k: v[k] for k in ("section", "title", "fps", "jobs", "timeout") if k in v}
+    kwargs: dict[str, Any] = {
+        k: v[k] for k in ("section", "title", "fps", "jobs", "timeout") if k in v
+    }
     if "size" in v:
         m = _SIZE.match(v["size"])
         if not m:
@@ -260,5 +308,7 @@ def load_config(root: Path) -> Config:
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise BuildError("cannot read config", [Diagnostic(str(path), None, "", str(exc))]) from None
+        raise BuildError(
+            "cannot read config", [Diagnostic(str(path), None, "", str(exc))]
+        ) from None
     return parse_config(text, root, file=str(path))

@@ -21,22 +21,28 @@ from sitegen.errors import Diagnostics
 PAGE_SUFFIXES = (".md", ".markdown")
 _SKIP_DIRS = {".git", ".hg", ".svn", "__pycache__", "node_modules", ".sitegen-cache"}
 _PREFIX = re.compile(r"^(\d+)[-_ .]+(?=\S)")
-_FRONT_KEYS = {"title": str, "weight": int, "order": int, "slug": str, "draft": bool,
-               "description": str}
+_FRONT_KEYS = {
+    "title": str,
+    "weight": int,
+    "order": int,
+    "slug": str,
+    "draft": bool,
+    "description": str,
+}
 
 
 @dataclass
 class SourcePage:
     """A Markdown page as written by the author."""
 
-    rel: PurePosixPath          # path relative to the content root, e.g. stage-1/w1/index.md
-    text: str                   # Markdown body, front matter removed
-    body_line: int              # 1-based line in the file where ``text`` starts
+    rel: PurePosixPath  # path relative to the content root, e.g. stage-1/w1/index.md
+    text: str  # Markdown body, front matter removed
+    body_line: int  # 1-based line in the file where ``text`` starts
     meta: dict[str, Any]
     digest: str
     is_index: bool
-    prefix: int | None          # numeric ordering prefix from the file name
-    stem: str                   # file name without prefix and suffix
+    prefix: int | None  # numeric ordering prefix from the file name
+    stem: str  # file name without prefix and suffix
 
     @property
     def display(self) -> str:
@@ -63,7 +69,7 @@ def split_name(name: str) -> tuple[int | None, str]:
     """``'03-foo bar'`` -> ``(3, 'foo bar')``; names without a prefix -> ``(None, name)``."""
     m = _PREFIX.match(name)
     if m:
-        return int(m.group(1)), name[m.end():]
+        return int(m.group(1)), name[m.end() :]
     return None, name
 
 
@@ -81,7 +87,7 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
         diags.error(file, 1, "front matter", "opening '---' has no closing '---'")
         return {}, raw, 1
     block = "\n".join(lines[1:end])
-    body = "\n".join(lines[end + 1:])
+    body = "\n".join(lines[end + 1 :])
     try:
         node = yaml.compose(block)
     except yaml.YAMLError as exc:
@@ -100,7 +106,12 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
         value = yaml.safe_load(yaml.serialize(vnode))
         want = _FRONT_KEYS.get(key)
         if want is None:
-            diags.error(file, line, key, f"unknown front matter key (allowed: {', '.join(sorted(_FRONT_KEYS))})")
+            diags.error(
+                file,
+                line,
+                key,
+                f"unknown front matter key (allowed: {', '.join(sorted(_FRONT_KEYS))})",
+            )
         elif want is int and (isinstance(value, bool) or not isinstance(value, int)):
             diags.error(file, line, key, f"must be a whole number, got {value!r}")
         elif value is None:
@@ -128,9 +139,14 @@ def read_page(path: Path, rel: PurePosixPath, data: bytes, diags: Diagnostics) -
     name = rel.name.rsplit(".", 1)[0]
     prefix, stem = split_name(name)
     return SourcePage(
-        rel=rel, text=body, body_line=body_line, meta=meta,
-        digest=hashlib.sha256(data).hexdigest(), is_index=stem.lower() in ("index", "readme", "_index"),
-        prefix=prefix, stem=stem,
+        rel=rel,
+        text=body,
+        body_line=body_line,
+        meta=meta,
+        digest=hashlib.sha256(data).hexdigest(),
+        is_index=stem.lower() in ("index", "readme", "_index"),
+        prefix=prefix,
+        stem=stem,
     )
 
 
@@ -141,7 +157,8 @@ def scan(content_root: Path, diags: Diagnostics, exclude: set[Path] | None = Non
     for dirpath, dirnames, filenames in os.walk(content_root):
         here = Path(dirpath)
         dirnames[:] = sorted(
-            d for d in dirnames
+            d
+            for d in dirnames
             if d not in _SKIP_DIRS and not d.startswith(".") and (here / d).resolve() not in exclude
         )
         rel_dir = os.path.relpath(dirpath, content_root).replace(os.sep, "/")

@@ -41,7 +41,7 @@ class LinkTargets:
 
     site: Site
     assets: set[PurePosixPath]
-    ids: dict[str, set[str]]       # page URL -> anchor ids on that page
+    ids: dict[str, set[str]]  # page URL -> anchor ids on that page
     by_url: dict[str, Node]
 
     @classmethod
@@ -55,7 +55,11 @@ class LinkTargets:
         path, _, frag = raw.partition("#")
         path, _, _query = path.partition("?")
         if not path:
-            if frag and frag not in self.ids.get(node.url, set()) and unquote(frag) not in self.ids.get(node.url, set()):
+            if (
+                frag
+                and frag not in self.ids.get(node.url, set())
+                and unquote(frag) not in self.ids.get(node.url, set())
+            ):
                 return None, f"anchor '#{unquote(frag)}' not found on this page"
             return None, None
         path = unquote(path)
@@ -100,8 +104,13 @@ def line_of(source: str, needle: str, first_line: int) -> int | None:
 
 
 def rewrite_links(
-    fragment: str, node: Node, targets: LinkTargets, diags: Diagnostics, file: str,
-    source: str = "", first_line: int = 1,
+    fragment: str,
+    node: Node,
+    targets: LinkTargets,
+    diags: Diagnostics,
+    file: str,
+    source: str = "",
+    first_line: int = 1,
 ) -> str:
     """Rewrite every href/src/poster in ``fragment``; warn about broken ones with file:line."""
 
@@ -124,8 +133,13 @@ DirectiveHandler = Callable[[str, Node], str]
 
 
 def expand_directives(
-    fragment: str, node: Node, handlers: dict[str, DirectiveHandler], diags: Diagnostics, file: str,
-    directives: list[tuple[str, str, int]], first_line: int,
+    fragment: str,
+    node: Node,
+    handlers: dict[str, DirectiveHandler],
+    diags: Diagnostics,
+    file: str,
+    directives: list[tuple[str, str, int]],
+    first_line: int,
 ) -> str:
     """Replace ``<!--sitegen:NAME:ARG-->`` markers with what the handler for NAME returns."""
     from sitegen.markdown_render import MARKER  # lazily: a no-op build never loads Markdown

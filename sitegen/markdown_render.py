@@ -25,7 +25,9 @@ RENDER_VERSION = f"md-3/{markdown.__version__}/{pygments.__version__}"
 DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
 MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")
 _TAGS = re.compile(r"<[^>]+>")
-_INLINE_TAGS = re.compile(r"</?(?:span|code|strong|em|b|i|a|sup|sub|mark|small|abbr|kbd|s|u)\b[^>]*>")
+_INLINE_TAGS = re.compile(
+    r"</?(?:span|code|strong|em|b|i|a|sup|sub|mark|small|abbr|kbd|s|u)\b[^>]*>"
+)
 _SPACE = re.compile(r"\s+")
 _FENCE = re.compile(r"^\s*(```|~~~)")
 
@@ -35,9 +37,9 @@ class Rendered:
     """What a page's Markdown turned into."""
 
     html: str
-    toc: list[dict]                  # [{"id", "title", "level", "children": [...]}] for h2/h3
-    ids: list[str]                   # every id in the fragment (anchor targets)
-    text: str                        # plain text for search
+    toc: list[dict]  # [{"id", "title", "level", "children": [...]}] for h2/h3
+    ids: list[str]  # every id in the fragment (anchor targets)
+    text: str  # plain text for search
     directives: list[tuple[str, str, int]] = field(default_factory=list)  # (name, arg, line)
 
 
@@ -84,13 +86,26 @@ class MarkdownRenderer:
         self._found: list = []
         self.md = markdown.Markdown(
             extensions=[
-                "tables", "fenced_code", "footnotes", "attr_list", "def_list", "sane_lists",
-                "md_in_html", "codehilite", "toc", DirectiveExtension(self._found),
+                "tables",
+                "fenced_code",
+                "footnotes",
+                "attr_list",
+                "def_list",
+                "sane_lists",
+                "md_in_html",
+                "codehilite",
+                "toc",
+                DirectiveExtension(self._found),
             ],
             extension_configs={
                 "codehilite": {"css_class": "highlight", "guess_lang": False, "wrapcode": True},
-                "toc": {"slugify": _heading_slug, "toc_depth": "2-6", "permalink": "#",
-                        "permalink_class": "anchor", "permalink_title": ""},
+                "toc": {
+                    "slugify": _heading_slug,
+                    "toc_depth": "2-6",
+                    "permalink": "#",
+                    "permalink_class": "anchor",
+                    "permalink_title": "",
+                },
             },
             output_format="html",
         )
@@ -126,7 +141,9 @@ def _toc(tokens: list[dict]) -> list[dict]:
             if t["level"] == 2:
                 out.append({"id": t["id"], "title": html.unescape(t["name"]), "children": []})
             elif t["level"] == 3 and out:
-                out[-1]["children"].append({"id": t["id"], "title": html.unescape(t["name"]), "children": []})
+                out[-1]["children"].append(
+                    {"id": t["id"], "title": html.unescape(t["name"]), "children": []}
+                )
             elif t["level"] == 3:
                 out.append({"id": t["id"], "title": html.unescape(t["name"]), "children": []})
             visit(t.get("children", []))

@@ -24,16 +24,16 @@ _FENCE = re.compile(r"^\s*(```|~~~)")
 class PageInput:
     """What navigation needs to know of a page, whatever produced it."""
 
-    rel: PurePosixPath            # content-relative source path (real or virtual)
+    rel: PurePosixPath  # content-relative source path (real or virtual)
     meta: dict[str, Any]
-    text: str                     # Markdown, or "" for generated pages
+    text: str  # Markdown, or "" for generated pages
     is_index: bool
     prefix: int | None
     stem: str
     body_html: str | None = None  # set for generated pages, already escaped
     body_line: int = 1
     digest: str = ""
-    toc: list[dict] | None = None      # generated pages may give their own table of contents
+    toc: list[dict] | None = None  # generated pages may give their own table of contents
 
 
 @dataclass(eq=False)
@@ -41,14 +41,14 @@ class Node:
     """A page in the site tree. Sections are nodes with children."""
 
     title: str
-    url: str                         # output path from the site root, e.g. stage-1/w1/index.html
-    source: PageInput | None          # None for a generated section index
-    rel_dir: PurePosixPath            # the content folder this node lives in (or is, for sections)
+    url: str  # output path from the site root, e.g. stage-1/w1/index.html
+    source: PageInput | None  # None for a generated section index
+    rel_dir: PurePosixPath  # the content folder this node lives in (or is, for sections)
     is_section: bool
     sort_key: tuple = ()
     parent: Node | None = None
     children: list[Node] = field(default_factory=list)
-    index: int = 0                    # position in document order
+    index: int = 0  # position in document order
     strip_first_heading: bool = False
 
     @property
@@ -66,14 +66,16 @@ class Node:
 @dataclass
 class Site:
     root: Node
-    order: list[Node]                         # document order, root first
-    by_source: dict[PurePosixPath, Node]      # content-relative .md path -> node
-    by_dir: dict[PurePosixPath, Node]         # content folder -> section node
+    order: list[Node]  # document order, root first
+    by_source: dict[PurePosixPath, Node]  # content-relative .md path -> node
+    by_dir: dict[PurePosixPath, Node]  # content folder -> section node
 
 
 def natural_key(text: str) -> tuple:
     """Sort 'w2' before 'w10'."""
-    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t.lower()) for t in re.split(r"(\d+)", text) if t)
+    return tuple(
+        (0, int(t), "") if t.isdigit() else (1, 0, t.lower()) for t in re.split(r"(\d+)", text) if t
+    )
 
 
 def first_heading(text: str) -> tuple[str | None, int, bool]:
@@ -111,7 +113,11 @@ def _title_for(page: PageInput) -> tuple[str, bool]:
 def _key(meta: dict, prefix: int | None, name: str) -> tuple:
     weight = meta.get("weight")
     big = 10**9
-    return (weight if weight is not None else big, prefix if prefix is not None else big, natural_key(name))
+    return (
+        weight if weight is not None else big,
+        prefix if prefix is not None else big,
+        natural_key(name),
+    )
 
 
 def build_site(pages: list[PageInput], home_title: str = "Home") -> Site:
@@ -153,7 +159,17 @@ def build_site(pages: list[PageInput], home_title: str = "Home") -> Site:
             if page is index:
                 continue
             t, s = _title_for(page)
-            children.append(Node(t, "", page, d, False, _key(page.meta, page.prefix, page.stem), strip_first_heading=s))
+            children.append(
+                Node(
+                    t,
+                    "",
+                    page,
+                    d,
+                    False,
+                    _key(page.meta, page.prefix, page.stem),
+                    strip_first_heading=s,
+                )
+            )
         for sub in subdirs[d]:
             sub_index = next((p for p in dirs[sub] if p.is_index), None)
             sub_prefix, sub_stem = _split(sub.name)
@@ -213,11 +229,25 @@ def menu_for(site: Site, node: Node) -> list[dict]:
     def item(n: Node) -> dict:
         open_ = id(n) in branch
         kids = [item(c) for c in n.children] if (open_ and n.children) else []
-        return {"title": n.title, "url": n.url, "current": n is node, "open": open_,
-                "has_children": bool(n.children), "children": kids}
+        return {
+            "title": n.title,
+            "url": n.url,
+            "current": n is node,
+            "open": open_,
+            "has_children": bool(n.children),
+            "children": kids,
+        }
 
-    top = [{"title": site.root.title, "url": site.root.url, "current": node is site.root,
-            "open": False, "has_children": False, "children": []}]
+    top = [
+        {
+            "title": site.root.title,
+            "url": site.root.url,
+            "current": node is site.root,
+            "open": False,
+            "has_children": False,
+            "children": [],
+        }
+    ]
     return top + [item(c) for c in site.root.children]
 
 

@@ -44,7 +44,9 @@ def _stat_key(path: Path) -> list[int] | None:
     return [st.st_size, st.st_mtime_ns, st.st_ino]
 
 
-def unchanged(out_dir: Path, rel: str, manifest: dict[str, list], digest: str | None = None) -> bool:
+def unchanged(
+    out_dir: Path, rel: str, manifest: dict[str, list], digest: str | None = None
+) -> bool:
     """``rel`` is still the file the last build wrote (same stat; same digest if given)."""
     entry = manifest.get(rel)
     if not entry or (digest is not None and entry[0] != digest):
@@ -54,7 +56,11 @@ def unchanged(out_dir: Path, rel: str, manifest: dict[str, list], digest: str | 
 
 def intact(out_dir: Path, manifest: dict[str, list]) -> bool:
     """Every file of the last build is still there, untouched (the no-op check)."""
-    return bool(manifest) and out_dir.is_dir() and all(unchanged(out_dir, rel, manifest) for rel in manifest)
+    return (
+        bool(manifest)
+        and out_dir.is_dir()
+        and all(unchanged(out_dir, rel, manifest) for rel in manifest)
+    )
 
 
 def current_digests(out_dir: Path, manifest: dict[str, list]) -> dict[str, str]:
@@ -73,7 +79,9 @@ def current_digests(out_dir: Path, manifest: dict[str, list]) -> dict[str, str]:
     return found
 
 
-def publish(out_dir: Path, files: dict[str, OutFile], manifest: dict[str, list]) -> tuple[dict[str, list], list[str]]:
+def publish(
+    out_dir: Path, files: dict[str, OutFile], manifest: dict[str, list]
+) -> tuple[dict[str, list], list[str]]:
     """Make ``out_dir`` hold exactly ``files``. Returns (new manifest, changed paths)."""
     now = current_digests(out_dir, manifest)
     changed = sorted(rel for rel, f in files.items() if now.get(rel) != f.digest)

@@ -47,8 +47,13 @@ def _link(n: Node | None) -> dict | None:
 
 def site_context(config: Config, strings: dict) -> dict:
     return {
-        "site": {"title": config.title, "language": config.language, "description": config.description,
-                 "author": config.author, "base_url": config.base_url or ""},
+        "site": {
+            "title": config.title,
+            "language": config.language,
+            "description": config.description,
+            "author": config.author,
+            "base_url": config.base_url or "",
+        },
         "t": strings,
         "build_date": build_date(),
     }
@@ -59,14 +64,22 @@ def page_context(site: Site, node: Node, body: PageBody, base: dict) -> dict:
     prev_node = order[node.index - 1] if node.index > 0 else None
     next_node = order[node.index + 1] if node.index + 1 < len(order) else None
     crumbs = [_link(a) for a in node.ancestors()]
-    children = [_link(c) for c in node.children] if node.is_section and node.parent is not None else []
+    children = (
+        [_link(c) for c in node.children] if node.is_section and node.parent is not None else []
+    )
     return {
         **base,
         "root": root_prefix(node.url),
         "page": {
-            "title": node.title, "url": node.url, "body": body.html, "toc": body.toc,
-            "breadcrumbs": crumbs, "prev": _link(prev_node), "next": _link(next_node),
-            "children": children, "is_home": node.parent is None,
+            "title": node.title,
+            "url": node.url,
+            "body": body.html,
+            "toc": body.toc,
+            "breadcrumbs": crumbs,
+            "prev": _link(prev_node),
+            "next": _link(next_node),
+            "children": children,
+            "is_home": node.parent is None,
         },
     }
 
@@ -113,7 +126,9 @@ def special_pages(theme: Theme, site: Site, base: dict) -> dict[str, bytes]:
     top = site.root
     common = {**base, "root": "", "menu": menu_for(site, top), "page": {"title": "", "url": ""}}
     return {
-        "sitemap.html": theme.render("sitemap.html", {**common, "full_tree": full_tree(site)}).encode(),
+        "sitemap.html": theme.render(
+            "sitemap.html", {**common, "full_tree": full_tree(site)}
+        ).encode(),
         "search.html": theme.render("search.html", common).encode(),
         "404.html": theme.render("404.html", common).encode(),
     }
@@ -122,8 +137,10 @@ def special_pages(theme: Theme, site: Site, base: dict) -> dict[str, bytes]:
 def sitemap_xml(site: Site, base_url: str) -> bytes:
     from urllib.parse import quote
 
-    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
-             '<urlset xmlns="http://www.sitemaps.org/schemas/sitemap/0.9">']
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        '<urlset xmlns="http://www.sitemaps.org/schemas/sitemap/0.9">',
+    ]
     date = build_date()
     for n in site.order:
         loc = base_url + quote(n.url, safe="/-._~")
@@ -137,6 +154,11 @@ def sitemap_xml(site: Site, base_url: str) -> bytes:
 
 def search_entries(site: Site, bodies: dict[str, PageBody]) -> list[dict]:
     return [
-        {"title": n.title, "url": n.url, "path": [a.title for a in n.ancestors()], "text": bodies[n.url].text}
+        {
+            "title": n.title,
+            "url": n.url,
+            "path": [a.title for a in n.ancestors()],
+            "text": bodies[n.url].text,
+        }
         for n in site.order
     ]

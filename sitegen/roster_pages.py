@@ -54,10 +54,17 @@ class RosterIntegration(Integration):
         self.state_before = dict(state.rosters)
         for rc in self.config.rosters:
             if rc.corrections is not None and not rc.corrections.is_file():
-                diags.error(self._rel(rc.corrections), None, f"rosters[{rc.name}].corrections", "file not found")
+                diags.error(
+                    self._rel(rc.corrections),
+                    None,
+                    f"rosters[{rc.name}].corrections",
+                    "file not found",
+                )
                 continue
             try:
-                result = load_roster(rc.file, corrections=rc.corrections, course_repo=self.config.course_repo)
+                result = load_roster(
+                    rc.file, corrections=rc.corrections, course_repo=self.config.course_repo
+                )
             except RosterError as exc:
                 diags.error(self._rel(Path(exc.file)), exc.line or None, exc.field, exc.message)
                 continue
@@ -70,7 +77,9 @@ class RosterIntegration(Integration):
 
     def _page_rel(self, rc: RosterConfig) -> PurePosixPath:
         section = rc.section.strip("/")
-        return PurePosixPath(section, f"{rc.name}.md") if section else PurePosixPath(f"{rc.name}.md")
+        return (
+            PurePosixPath(section, f"{rc.name}.md") if section else PurePosixPath(f"{rc.name}.md")
+        )
 
     def pages(self, strings: dict[str, str]) -> list[PageInput]:
         out = []
@@ -83,15 +92,32 @@ class RosterIntegration(Integration):
             json_href = "../" * depth + url_quote(f"roster/{rc.name}.json")
             body = (
                 f'<p><a class="roster-json" href="{escape(json_href, quote=True)}" download>'
-                f'{escape(strings["roster_json"])}</a></p>\n' + to_html(result)
+                f"{escape(strings['roster_json'])}</a></p>\n" + to_html(result)
             )
-            toc = [{"id": f"group-{g.slug}", "title": g.name, "children": []} for g in result.roster.groups]
-            out.append(PageInput(rel, {"title": rc.title, "weight": rc.weight}, "", False, None, rc.name,
-                                 body_html=body, toc=toc, digest=hashlib.sha256(body.encode()).hexdigest()))
+            toc = [
+                {"id": f"group-{g.slug}", "title": g.name, "children": []}
+                for g in result.roster.groups
+            ]
+            out.append(
+                PageInput(
+                    rel,
+                    {"title": rc.title, "weight": rc.weight},
+                    "",
+                    False,
+                    None,
+                    rc.name,
+                    body_html=body,
+                    toc=toc,
+                    digest=hashlib.sha256(body.encode()).hexdigest(),
+                )
+            )
         return out
 
     def files(self) -> dict[str, OutFile]:
-        return {f"roster/{name}.json": from_bytes(to_json(r).encode()) for name, r in sorted(self.results.items())}
+        return {
+            f"roster/{name}.json": from_bytes(to_json(r).encode())
+            for name, r in sorted(self.results.items())
+        }
 
     def directives(self) -> dict:
         def roster_directive(arg: str, node: Node) -> str:
@@ -100,7 +126,10 @@ class RosterIntegration(Integration):
                 known = ", ".join(sorted(self.results)) or "none configured"
                 raise LookupError(f"no roster named '{arg}' (known: {known})")
             href = root_prefix(node.url) + url_quote(f"roster/{arg.strip()}.json")
-            return f'<p><a class="roster-json" href="{escape(href, quote=True)}" download>JSON</a></p>\n' + to_html(result)
+            return (
+                f'<p><a class="roster-json" href="{escape(href, quote=True)}" download>JSON</a></p>\n'
+                + to_html(result)
+            )
 
         return {"roster": roster_directive}
 

@@ -68,7 +68,9 @@ def _snapshot(root: Path, skip: set[Path]) -> tuple:
     entries = []
     for dirpath, dirnames, files in os.walk(root):
         here = Path(dirpath)
-        dirnames[:] = sorted(d for d in dirnames if not d.startswith(".") and (here / d).resolve() not in skip)
+        dirnames[:] = sorted(
+            d for d in dirnames if not d.startswith(".") and (here / d).resolve() not in skip
+        )
         for name in sorted(files):
             try:
                 st = (here / name).stat()
@@ -89,17 +91,25 @@ def _rebuild(opts: BuildOptions, state: _State) -> None:
     for d in report.diagnostics:
         print(d, file=sys.stderr)
     if not report.up_to_date:
-        print(f"sitegen: rebuilt {report.pages_rendered} page(s) in {report.seconds:.2f}s", file=sys.stderr)
+        print(
+            f"sitegen: rebuilt {report.pages_rendered} page(s) in {report.seconds:.2f}s",
+            file=sys.stderr,
+        )
         with state.lock:
             state.version += 1
 
 
 def serve(args: argparse.Namespace) -> int:
-    opts = BuildOptions(source=args.source, output=args.output, strict=args.strict, clean=args.clean)
+    opts = BuildOptions(
+        source=args.source, output=args.output, strict=args.strict, clean=args.clean
+    )
     _config, _content, output, cache_dir = resolve_paths(opts)
     opts.clean = False
     state = _State()
-    _rebuild(BuildOptions(source=args.source, output=args.output, strict=args.strict, clean=args.clean), state)
+    _rebuild(
+        BuildOptions(source=args.source, output=args.output, strict=args.strict, clean=args.clean),
+        state,
+    )
     if not output.is_dir():
         print("sitegen: nothing to serve: the first build failed", file=sys.stderr)
         return 1

@@ -12,9 +12,9 @@ import re
 import unicodedata
 
 _KEEP = re.compile(r"[^\w]+", re.UNICODE)
-_WINDOWS_RESERVED = {"con", "prn", "aux", "nul"} | {f"com{i}" for i in range(10)} | {
-    f"lpt{i}" for i in range(10)
-}
+_WINDOWS_RESERVED = (
+    {"con", "prn", "aux", "nul"} | {f"com{i}" for i in range(10)} | {f"lpt{i}" for i in range(10)}
+)
 
 
 def slugify(text: str, fallback: str = "page") -> str:

@@ -39,7 +39,9 @@ class Theme:
         self.dirs = [d for d in (project_dir, default_theme_dir()) if d is not None and d.is_dir()]
         self.env = jinja2.Environment(
             loader=jinja2.FileSystemLoader([str(d) for d in self.dirs]),
-            autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=False,
+            autoescape=True,
+            undefined=jinja2.StrictUndefined,
+            trim_blocks=False,
             keep_trailing_newline=True,
         )
         self.env.filters["u"] = lambda path: quote(str(path), safe="/#-._~!$&'()*+,;=:@%")

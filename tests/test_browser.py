@@ -20,8 +20,16 @@ from sitegen_helpers import REPO, run_build
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 ARTIFACTS = REPO / "test-artifacts"
-ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
-        "--disable-component-update", "--disable-sync", "--autoplay-policy=no-user-gesture-required"]
+ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--autoplay-policy=no-user-gesture-required",
+]
 
 
 def _require_browser() -> None:
@@ -168,21 +176,29 @@ def test_every_embedded_clip_plays(page, site_url):
             handle = videos.nth(i)
             handle.scroll_into_view_if_needed()
             handle.evaluate("v => { v.muted = true; return v.play(); }")
-            page.wait_for_function("v => v.readyState >= 2 && v.videoWidth > 0 && v.currentTime > 0.2", arg=handle.element_handle(), timeout=20000)
+            page.wait_for_function(
+                "v => v.readyState >= 2 && v.videoWidth > 0 && v.currentTime > 0.2",
+                arg=handle.element_handle(),
+                timeout=20000,
+            )
             played += 1
     assert played >= 10  # W7, W8, W11, W12 embeds plus the gallery
     shot(page, "clip")
 
 
 def test_phone_viewport_never_scrolls_sideways(browser, site_url):
-    context = browser.new_context(viewport={"width": 375, "height": 740}, is_mobile=True, has_touch=True)
+    context = browser.new_context(
+        viewport={"width": 375, "height": 740}, is_mobile=True, has_touch=True
+    )
     pg = context.new_page()
     Watch(pg)
     pg.goto(site_url + "sitemap.html")
     hrefs = [a.get_attribute("href") for a in pg.locator(".sitemap a").all()]
     for href in hrefs[:: max(1, len(hrefs) // 15)] + ["search.html?q=齒輪", "gallery/index.html"]:
         pg.goto(site_url + href)
-        wide = pg.evaluate("document.documentElement.scrollWidth - document.documentElement.clientWidth")
+        wide = pg.evaluate(
+            "document.documentElement.scrollWidth - document.documentElement.clientWidth"
+        )
         assert wide <= 0, f"{href} scrolls sideways by {wide}px"
     pg.goto(site_url + "index.html")
     pg.locator(".menu-toggle").click()

@@ -68,7 +68,7 @@ def test_title_edit_rerenders_pages_that_show_it(built):
 def test_fresh_checkout_with_new_mtimes_still_hits_the_cache(built, tmp_path):
     src, out, cache, _ = built
     for path in src.rglob("*.md"):
-        os.utime(path, ns=(1, 1))          # a clone gives every file a new mtime
+        os.utime(path, ns=(1, 1))  # a clone gives every file a new mtime
     report = run_build(src, out, cache_dir=cache)
     assert report.up_to_date
 
@@ -100,7 +100,10 @@ def test_failed_build_leaves_previous_site_intact(built):
     (src / "a.md").write_text("---\nweight: heavy\n---\n# A\n", encoding="utf-8")
     with pytest.raises(BuildError) as info:
         run_build(src, out, cache_dir=cache)
-    assert any(d.file.endswith("a.md") and d.line == 2 and d.field == "weight" for d in info.value.diagnostics)
+    assert any(
+        d.file.endswith("a.md") and d.line == 2 and d.field == "weight"
+        for d in info.value.diagnostics
+    )
     assert snapshot(out) == before
     assert not any(p.name.startswith(".site.") for p in out.parent.iterdir())
 
@@ -137,7 +140,10 @@ def test_corrupt_cache_means_cold_build(built):
 
 
 def test_cli_errors_are_one_line_with_exit_codes(tmp_path):
-    src = write_tree(tmp_path / "p", {"sitegen.yml": "title: x\nlanguge: en\nrosters: 3\n", "content/index.md": "# H\n"})
+    src = write_tree(
+        tmp_path / "p",
+        {"sitegen.yml": "title: x\nlanguge: en\nrosters: 3\n", "content/index.md": "# H\n"},
+    )
     result = run_cli("build", "--source", str(src))
     assert result.returncode == 1
     assert "sitegen.yml:2: error: languge: unknown key" in result.stderr
@@ -150,9 +156,15 @@ def test_cli_errors_are_one_line_with_exit_codes(tmp_path):
 
 
 def test_check_command_reports_broken_links(tmp_path):
-    out = write_tree(tmp_path / "site", {"index.html": '<a href="x.html">x</a>\n<img src="https://cdn.example/x.png">\n'})
+    out = write_tree(
+        tmp_path / "site",
+        {"index.html": '<a href="x.html">x</a>\n<img src="https://cdn.example/x.png">\n'},
+    )
     result = run_cli("check", str(out))
     assert result.returncode == 1
     assert "index.html:1: 'x.html' not found" in result.stderr
-    assert "index.html:2: <img src> loads 'https://cdn.example/x.png' from outside the site" in result.stderr
+    assert (
+        "index.html:2: <img src> loads 'https://cdn.example/x.png' from outside the site"
+        in result.stderr
+    )
     shutil.rmtree(out)

@@ -36,10 +36,13 @@ BASIC_EXTS = ["tables", "fenced_code"]
 SITEGEN_EXTS = BASIC_EXTS + ["footnotes", "attr_list", "def_list", "sane_lists", "md_in_html"]
 HEADING = re.compile(r"<h([1-3])\b[^>]*>(.*?)</h\1\s*>", re.S | re.I)
 
-needs_real_data = pytest.mark.skipif(not TEMPLATE.is_file(), reason="shared cmsimde data not present")
+needs_real_data = pytest.mark.skipif(
+    not TEMPLATE.is_file(), reason="shared cmsimde data not present"
+)
 
 
 # -- independent helpers ---------------------------------------------------------------------
+
 
 class _Visible(HTMLParser):
     def __init__(self) -> None:
@@ -73,7 +76,7 @@ def sections(source: str) -> list[tuple[str, str]]:
     for i, m in enumerate(found):
         end = found[i + 1].start() if i + 1 < len(found) else len(source)
         title = html.unescape(re.sub(r"<[^>]+>", "", m.group(2))).strip()
-        out.append((title, visible(source[m.end():end])))
+        out.append((title, visible(source[m.end() : end])))
     return out
 
 
@@ -81,7 +84,7 @@ def split_page(path: Path) -> tuple[dict, str]:
     text = path.read_text(encoding="utf-8")
     m = re.match(r"---\n(.*?)\n---\n", text, re.S)
     assert m, f"{path} has no front matter"
-    return yaml.safe_load(m.group(1)), text[m.end():]
+    return yaml.safe_load(m.group(1)), text[m.end() :]
 
 
 def document_order(content: Path) -> list[Path]:
@@ -93,8 +96,12 @@ def document_order(content: Path) -> list[Path]:
         return (meta.get("weight", 10**9), int(m.group(1)) if m else 10**9, p.name)
 
     def visit(folder: Path) -> list[Path]:
-        kids = [p for p in folder.iterdir()
-                if (p.is_dir() and (p / "index.md").is_file()) or (p.suffix == ".md" and p.name != "index.md")]
+        kids = [
+            p
+            for p in folder.iterdir()
+            if (p.is_dir() and (p / "index.md").is_file())
+            or (p.suffix == ".md" and p.name != "index.md")
+        ]
         out = []
         for kid in sorted(kids, key=key):
             if kid.is_dir():
@@ -112,7 +119,11 @@ def rendered_text(path: Path, exts: list[str]) -> str:
 
 
 def tree_bytes(folder: Path) -> dict[str, bytes]:
-    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+    }
 
 
 @pytest.fixture(scope="module")
@@ -122,6 +133,7 @@ def template(tmp_path_factory):
 
 
 # -- the cmsimde template site -----------------------------------------------------------------
+
 
 @needs_real_data
 def test_one_page_per_heading_in_cmsimde_order(template):
@@ -139,7 +151,9 @@ def test_headings_with_children_become_folders(template):
     dest, _ = template
     assert (dest / "01-about.md").is_file()
     assert split_page(dest / "04-cmsimde" / "index.md")[0] == {"title": "CMSiMDE", "weight": 4}
-    assert split_page(dest / "04-cmsimde" / "02-基本操作" / "07-檢視-stl.md")[0]["title"] == "檢視 STL"
+    assert (
+        split_page(dest / "04-cmsimde" / "02-基本操作" / "07-檢視-stl.md")[0]["title"] == "檢視 STL"
+    )
 
 
 @needs_real_data
@@ -198,6 +212,7 @@ def test_import_is_deterministic(template, tmp_path):
 
 # -- real student sites ------------------------------------------------------------------------
 
+
 @needs_real_data
 def test_base64_images_extracted(tmp_path):
     dest = tmp_path / "content"
@@ -251,6 +266,7 @@ def test_pasted_highlighter_and_typed_tags_become_code(tmp_path):
 
 # -- edge cases (hand-written fixture) ---------------------------------------------------------
 
+
 @pytest.fixture()
 def edge_site(tmp_path):
     """A site folder: config/content.htm, images/ beside config/, downloads/ under content/."""
@@ -271,27 +287,47 @@ def test_edge_structure(edge_site, tmp_path):
     report = import_cmsimde(edge_site, dest)
     pages = document_order(dest)
     titles = [split_page(p)[0]["title"] for p in pages]
-    assert titles == ["Starts at H2", 'Intro: "quotes" & \\back#slash', "Deep", "Week 1", "Week 1",
-                      "Markup in heading"]
+    assert titles == [
+        "Starts at H2",
+        'Intro: "quotes" & \\back#slash',
+        "Deep",
+        "Week 1",
+        "Week 1",
+        "Markup in heading",
+    ]
     assert pages[0].name == "01-starts-at-h2.md"
     assert [p.relative_to(dest).as_posix() for p in pages[2:4]] == [
-        "02-intro-quotes-back-slash/01-deep.md", "02-intro-quotes-back-slash/02-week-1.md"]
+        "02-intro-quotes-back-slash/01-deep.md",
+        "02-intro-quotes-back-slash/02-week-1.md",
+    ]
     # text before the first heading: a front page titled like the cmsimde site, and reported
     meta, body = split_page(dest / "index.md")
     assert meta == {"title": "My 網站"} and body.strip() == "Welcome text before any heading."
-    assert report.pages[0].level == 0 and "text before the first heading" in report.pages[0].warnings[0]
+    assert (
+        report.pages[0].level == 0
+        and "text before the first heading" in report.pages[0].warnings[0]
+    )
     # the second "Week 1" was inside a <div>: split there, both pages kept
     assert "inside a box" in split_page(pages[3])[1]
-    assert "second week" in split_page(pages[4])[1] and "after an empty heading" in split_page(pages[4])[1]
+    assert (
+        "second week" in split_page(pages[4])[1]
+        and "after an empty heading" in split_page(pages[4])[1]
+    )
 
 
 def test_edge_links_and_files(edge_site, tmp_path):
     dest = tmp_path / "out"
     report = import_cmsimde(edge_site, dest)
     intro = split_page(dest / "02-intro-quotes-back-slash" / "index.md")[1]
-    for link in ("[dynamic](02-week-1.md)", "[static duplicate](03-week-1.md)",
-                 "[static](../01-starts-at-h2.md)", "[query](01-deep.md)", "[home](../01-starts-at-h2.md)",
-                 "[unknown](/get_page/Nowhere)", "[server](/login)"):
+    for link in (
+        "[dynamic](02-week-1.md)",
+        "[static duplicate](03-week-1.md)",
+        "[static](../01-starts-at-h2.md)",
+        "[query](01-deep.md)",
+        "[home](../01-starts-at-h2.md)",
+        "[unknown](/get_page/Nowhere)",
+        "[server](/login)",
+    ):
         assert link in intro
     last = split_page(dest / "02-intro-quotes-back-slash" / "04-markup-in-heading.md")[1]
     assert '<img src="../images/photo.png" alt="" width="40" height="30">' in last
@@ -300,7 +336,10 @@ def test_edge_links_and_files(edge_site, tmp_path):
     assert (dest / "downloads" / "notes.pdf").read_bytes() == b"pdf"
     assert len(report.images_extracted) == 1 and (dest / report.images_extracted[0]).is_file()
     joined = "\n".join(report.warnings)
-    assert "Intro: \"quotes\" & \\back#slash: link to unknown cmsimde page 'Nowhere' left as is (line 7)" in joined
+    assert (
+        "Intro: \"quotes\" & \\back#slash: link to unknown cmsimde page 'Nowhere' left as is (line 7)"
+        in joined
+    )
     assert "missing file(s), linked but not copied: images/missing.png" in joined
     assert "not referenced by any page, not copied: images/unused.gif" in joined
 
@@ -309,12 +348,20 @@ def test_edge_problems_reported_on_their_page(edge_site, tmp_path):
     report = import_cmsimde(edge_site, tmp_path / "out")
     by_title = {p.title: p.warnings for p in report.pages}
     last = by_title["Markup in heading"]
-    for expected in ("markup inside the heading not carried over (<a>)", "Brython (Python) script",
-                     "unclosed <span>", "unknown element <blink>", "stray </div> ignored (line 29)"):
+    for expected in (
+        "markup inside the heading not carried over (<a>)",
+        "Brython (Python) script",
+        "unclosed <span>",
+        "unknown element <blink>",
+        "stray </div> ignored (line 29)",
+    ):
         assert any(expected in w for w in last), expected
     assert any("holds page headings" in w for w in report.pages[4].warnings)  # first "Week 1"
     assert any("empty <h2> is not a page" in w for w in report.pages[5].warnings)
-    assert "first heading is <h2>: made a top-level page, as cmsimde does (line 2)" in report.pages[1].warnings
+    assert (
+        "first heading is <h2>: made a top-level page, as cmsimde does (line 2)"
+        in report.pages[1].warnings
+    )
     assert all(": " in w for w in report.warnings)
 
 
@@ -333,7 +380,17 @@ def test_edge_special_characters_survive_rendering(edge_site, tmp_path, exts):
 
 
 def test_titles_round_trip_through_yaml(tmp_path):
-    titles = ['a: "b" #c', "back\\slash", "tab\there", "'single'", "---", "- dash", "中文 標題！", "@at", "null"]
+    titles = [
+        'a: "b" #c',
+        "back\\slash",
+        "tab\there",
+        "'single'",
+        "---",
+        "- dash",
+        "中文 標題！",
+        "@at",
+        "null",
+    ]
     source = "".join(f"<h1>{html.escape(t)}</h1><p>x</p>" for t in titles)
     (tmp_path / "content.htm").write_text(source, encoding="utf-8")
     import_cmsimde(tmp_path / "content.htm", tmp_path / "out")
@@ -342,20 +399,30 @@ def test_titles_round_trip_through_yaml(tmp_path):
 
 def test_first_heading_is_top_level_like_cmsimde(tmp_path):
     # cmsimde turns a first <h3> into <h1>, so the <h2> after it is its child
-    (tmp_path / "content.htm").write_text("<h3>A</h3><h2>B</h2><h1>C</h1><h3>D</h3>", encoding="utf-8")
+    (tmp_path / "content.htm").write_text(
+        "<h3>A</h3><h2>B</h2><h1>C</h1><h3>D</h3>", encoding="utf-8"
+    )
     report = import_cmsimde(tmp_path / "content.htm", tmp_path / "out")
-    assert [p.path for p in report.pages] == ["01-a/index.md", "01-a/01-b.md", "02-c/index.md", "02-c/01-d.md"]
+    assert [p.path for p in report.pages] == [
+        "01-a/index.md",
+        "01-a/01-b.md",
+        "02-c/index.md",
+        "02-c/01-d.md",
+    ]
     assert [p.level for p in report.pages] == [1, 2, 1, 3]
 
 
 def test_reserved_file_names_avoided(tmp_path):
-    (tmp_path / "content.htm").write_text("<h1>Index</h1><h2>README</h2><h1>x</h1>", encoding="utf-8")
+    (tmp_path / "content.htm").write_text(
+        "<h1>Index</h1><h2>README</h2><h1>x</h1>", encoding="utf-8"
+    )
     import_cmsimde(tmp_path / "content.htm", tmp_path / "out")
     assert (tmp_path / "out" / "01-index-page" / "index.md").is_file()
     assert (tmp_path / "out" / "01-index-page" / "01-readme-page.md").is_file()
 
 
 # -- destination and errors --------------------------------------------------------------------
+
 
 def test_dest_must_be_empty_unless_force(tmp_path):
     src = tmp_path / "content.htm"
@@ -387,7 +454,9 @@ def test_errors_carry_file_and_line(tmp_path):
     with pytest.raises(CmsimdeImportError) as err:
         import_cmsimde(bad, tmp_path / "out")
     assert (err.value.file, err.value.line) == (str(bad), 3)
-    (tmp_path / "empty.htm").write_text("<p>no headings</p><h4>h4 is not a page</h4>", encoding="utf-8")
+    (tmp_path / "empty.htm").write_text(
+        "<p>no headings</p><h4>h4 is not a page</h4>", encoding="utf-8"
+    )
     with pytest.raises(CmsimdeImportError, match="no <h1>, <h2> or <h3>"):
         import_cmsimde(tmp_path / "empty.htm", tmp_path / "out")
     (tmp_path / "empty").mkdir()
@@ -397,6 +466,7 @@ def test_errors_carry_file_and_line(tmp_path):
 
 
 # -- CLI ---------------------------------------------------------------------------------------
+
 
 def test_cli_exit_codes_and_output(edge_site, tmp_path, capsys):
     dest = tmp_path / "out"
@@ -422,6 +492,7 @@ def test_cli_exit_codes_and_output(edge_site, tmp_path, capsys):
 
 # -- end to end with the site builder ----------------------------------------------------------
 
+
 @needs_real_data
 def test_imported_template_builds_strict(tmp_path):
     """A complete site folder (every referenced file present) imports and builds cleanly."""
@@ -438,22 +509,43 @@ def test_imported_template_builds_strict(tmp_path):
     assert len(report.files_copied) == 8 and not any("missing" in w for w in report.warnings)
 
     run = subprocess.run(
-        [sys.executable, "-m", "sitegen", "build", "--source", str(content), "--output", str(output), "--strict"],
-        cwd=ROOT, capture_output=True, text=True, timeout=600,
+        [
+            sys.executable,
+            "-m",
+            "sitegen",
+            "build",
+            "--source",
+            str(content),
+            "--output",
+            str(output),
+            "--strict",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=600,
     )
     assert run.returncode == 0, run.stdout + run.stderr
     titles = [t for t, _ in sections(source)]
     generated = {"index.html", "404.html", "search.html", "sitemap.html"}
-    pages = [p for p in output.rglob("*.html")
-             if p.relative_to(output).as_posix() not in generated and not p.relative_to(output).parts[0] == "static"]
+    pages = [
+        p
+        for p in output.rglob("*.html")
+        if p.relative_to(output).as_posix() not in generated
+        and not p.relative_to(output).parts[0] == "static"
+    ]
     assert len(pages) == len(titles)
     # follow rel="next" from the home page: cmsimde's sequence of titles, in order
     seen, page = [], output / "index.html"
     for _ in range(len(titles)):
-        m = re.search(r'<a[^>]*rel="next"[^>]*href="([^"]+)"|<a[^>]*href="([^"]+)"[^>]*rel="next"',
-                      page.read_text(encoding="utf-8"))
+        m = re.search(
+            r'<a[^>]*rel="next"[^>]*href="([^"]+)"|<a[^>]*href="([^"]+)"[^>]*rel="next"',
+            page.read_text(encoding="utf-8"),
+        )
         assert m, f"no next link on {page}"
         page = (page.parent / unquote(m.group(1) or m.group(2))).resolve()
         title = re.search(r"<title>(.*?)</title>", page.read_text(encoding="utf-8"), re.S).group(1)
         seen.append(html.unescape(title))
-    assert all(s.startswith(t) for s, t in zip(seen, titles, strict=True)), list(zip(seen, titles, strict=False))
+    assert all(s.startswith(t) for s, t in zip(seen, titles, strict=True)), list(
+        zip(seen, titles, strict=False)
+    )

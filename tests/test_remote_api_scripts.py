@@ -111,8 +111,9 @@ def test_cart_script_drives_backwards(capsys, monkeypatch):
     first, last = result.samples[0], result.samples[-1]
     assert 3.0 <= result.sim_time <= 3.5  # blocking calls wait for a pass (50 ms) each
     # forward is the cart's +x: -1 rad/s on 28 mm wheels is about 2.8 cm/s backwards
-    backwards = -((last.x - first.x) * math.cos(first.heading)
-                  + (last.y - first.y) * math.sin(first.heading))
+    backwards = -(
+        (last.x - first.x) * math.cos(first.heading) + (last.y - first.y) * math.sin(first.heading)
+    )
     assert 0.05 < backwards < 0.12
     assert abs(last.heading - first.heading) < 0.1
 
@@ -126,17 +127,35 @@ def test_realtime_paces_by_the_wall_clock(capsys):
 
 def test_cli_runs_a_course_script_in_a_subprocess():
     proc = subprocess.run(
-        [sys.executable, "-m", "sims.remote_api", "run", str(CART), "--scene", "cart",
-         "--after", "1"], capture_output=True, text=True, cwd=REPO, timeout=120)
+        [
+            sys.executable,
+            "-m",
+            "sims.remote_api",
+            "run",
+            str(CART),
+            "--scene",
+            "cart",
+            "--after",
+            "1",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "Connected to remote server"
     assert "127.0.0.1:19999" in proc.stderr and "recorded, not contacted" in proc.stderr
 
 
 # --- the project's own examples --------------------------------------------------------------------
-EXAMPLE_SCENES = {"streaming_and_modes.py": "2w1a", "error_codes.py": "2w1a",
-                  "synchronous.py": "2w1a", "objects_and_signals.py": "2w1a",
-                  "cart_obstacles.py": "cart"}
+EXAMPLE_SCENES = {
+    "streaming_and_modes.py": "2w1a",
+    "error_codes.py": "2w1a",
+    "synchronous.py": "2w1a",
+    "objects_and_signals.py": "2w1a",
+    "cart_obstacles.py": "cart",
+}
 
 
 def _run_example(name, capsys, **kw):
@@ -279,9 +298,12 @@ def test_script_environment_is_restored(tmp_path, capsys):
     import time
 
     helper = _script(tmp_path, "VALUE = 42\n", name="helper_mod.py")
-    path = _script(tmp_path, "import sys, vrep, helper_mod, simConst\n"
-                   "print(sys.argv[1:], helper_mod.VALUE, vrep.simx_opmode_streaming,"
-                   " simConst.sim_handle_all, __name__)\n")
+    path = _script(
+        tmp_path,
+        "import sys, vrep, helper_mod, simConst\n"
+        "print(sys.argv[1:], helper_mod.VALUE, vrep.simx_opmode_streaming,"
+        " simConst.sim_handle_all, __name__)\n",
+    )
     state = random.getstate()
     saved_path, real_sleep = list(sys.path), time.sleep
     result = run_script(path, "2w1a", argv=["a", "b"])
@@ -294,8 +316,9 @@ def test_script_environment_is_restored(tmp_path, capsys):
 
 
 def test_network_is_blocked_for_the_script(tmp_path):
-    path = _script(tmp_path, "import socket\ns = socket.socket()\n"
-                   "s.connect(('192.168.192.1', 19997))\n")
+    path = _script(
+        tmp_path, "import socket\ns = socket.socket()\ns.connect(('192.168.192.1', 19997))\n"
+    )
     result = run_script(path, "2w1a")
     assert result.exit_code == 1 and "network access is disabled" in result.message
 
@@ -303,8 +326,23 @@ def test_network_is_blocked_for_the_script(tmp_path):
 # --- recording -----------------------------------------------------------------------------------
 def test_record_writes_gallery_files(tmp_path, capsys):
     out = tmp_path / "clips" / "cart.webm"
-    code = main(["run", str(CART), "--scene", "cart", "--after", "1.5", "--record", str(out),
-                 "--size", "160x120", "--fps", "10", "-q"])
+    code = main(
+        [
+            "run",
+            str(CART),
+            "--scene",
+            "cart",
+            "--after",
+            "1.5",
+            "--record",
+            str(out),
+            "--size",
+            "160x120",
+            "--fps",
+            "10",
+            "-q",
+        ]
+    )
     captured = capsys.readouterr()
     assert code == 0, captured.err
     for suffix in (".webm", ".png", ".csv", ".json", ".svg"):
@@ -326,10 +364,14 @@ def test_script_clip_kind_renders_and_keys_by_content(tmp_path):
     from sims.remote_api.record import register, script_plan
 
     register()
-    script = _script(tmp_path, (EXAMPLES / "cart_obstacles.py").read_text(encoding="utf-8")
-                     .replace("< 20", "< 2"), name="drive.py")
-    spec = ClipSpec(name="drive", scenario=str(script), kind="script", width=160, height=120,
-                    fps=10, seed=3)
+    script = _script(
+        tmp_path,
+        (EXAMPLES / "cart_obstacles.py").read_text(encoding="utf-8").replace("< 20", "< 2"),
+        name="drive.py",
+    )
+    spec = ClipSpec(
+        name="drive", scenario=str(script), kind="script", width=160, height=120, fps=10, seed=3
+    )
     plan = script_plan(spec)
     assert plan.scene == "cart" and 2.0 < plan.duration < 3.5
     key = cache.clip_key(spec_fields(spec, plan.seed, plan.params), plan.hash_files)

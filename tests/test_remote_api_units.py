@@ -58,8 +58,10 @@ def handle(client, name):
 
 
 # --- rotations -----------------------------------------------------------------------------------
-@pytest.mark.parametrize("euler", [(0.3, -0.7, 1.9), (-2.5, 0.2, -0.4), (1.0, 1.2, 3.0),
-                                   (0.0, 0.0, 0.0), (3.1, -1.5, -3.1)])
+@pytest.mark.parametrize(
+    "euler",
+    [(0.3, -0.7, 1.9), (-2.5, 0.2, -0.4), (1.0, 1.2, 3.0), (0.0, 0.0, 0.0), (3.1, -1.5, -3.1)],
+)
 def test_euler_is_coppeliasim_xyz(euler):
     expected = _rx(euler[0]) @ _ry(euler[1]) @ _rz(euler[2])
     assert np.allclose(np.array(g.euler_to_matrix(euler)), expected)
@@ -95,14 +97,26 @@ def test_operation_modes():
 
 
 def test_constants_match_the_reference():
-    assert (sim.simx_return_ok, sim.simx_return_novalue_flag, sim.simx_return_timeout_flag,
-            sim.simx_return_illegal_opmode_flag, sim.simx_return_remote_error_flag,
-            sim.simx_return_split_progress_flag, sim.simx_return_local_error_flag,
-            sim.simx_return_initialize_error_flag) == (0, 1, 2, 4, 8, 16, 32, 64)
-    assert (sim.simx_opmode_oneshot, sim.simx_opmode_blocking, sim.simx_opmode_streaming,
-            sim.simx_opmode_oneshot_split, sim.simx_opmode_streaming_split,
-            sim.simx_opmode_discontinue, sim.simx_opmode_buffer, sim.simx_opmode_remove) == (
-        0, 0x010000, 0x020000, 0x030000, 0x040000, 0x050000, 0x060000, 0x070000)
+    assert (
+        sim.simx_return_ok,
+        sim.simx_return_novalue_flag,
+        sim.simx_return_timeout_flag,
+        sim.simx_return_illegal_opmode_flag,
+        sim.simx_return_remote_error_flag,
+        sim.simx_return_split_progress_flag,
+        sim.simx_return_local_error_flag,
+        sim.simx_return_initialize_error_flag,
+    ) == (0, 1, 2, 4, 8, 16, 32, 64)
+    assert (
+        sim.simx_opmode_oneshot,
+        sim.simx_opmode_blocking,
+        sim.simx_opmode_streaming,
+        sim.simx_opmode_oneshot_split,
+        sim.simx_opmode_streaming_split,
+        sim.simx_opmode_discontinue,
+        sim.simx_opmode_buffer,
+        sim.simx_opmode_remove,
+    ) == (0, 0x010000, 0x020000, 0x030000, 0x040000, 0x050000, 0x060000, 0x070000)
 
 
 def test_virtual_clock_patches_only_the_script_thread():
@@ -149,7 +163,11 @@ def test_start_needs_a_scene_and_never_opens_sockets(monkeypatch):
         assert sim.simxStart("192.168.192.1", 19997, True, True, 5000, 5) == -1
         s = Session("2w1a", clock=VirtualClock())
         set_session(s)
-        assert [sim.simxStart("10.0.0.1", 19997, True, True, 5000, 5) for _ in range(3)] == [0, 1, 2]
+        assert [sim.simxStart("10.0.0.1", 19997, True, True, 5000, 5) for _ in range(3)] == [
+            0,
+            1,
+            2,
+        ]
         sim.simxFinish(1)
         assert sim.simxStart("x", 1, True, True, 5000, 5) == 1  # first free slot
         sim.simxFinish(-1)
@@ -224,7 +242,12 @@ def test_remote_errors(session, client):
 
 def test_unsupported_and_unknown_functions(session, client, capsys):
     assert sim.simxCallScriptFunction(client, "x", 1, "f", [], [], [], bytearray(), B) == (
-        32, [], [], [], bytearray())
+        32,
+        [],
+        [],
+        [],
+        bytearray(),
+    )
     assert sim.simxLoadScene(client, "x.ttt", 0, B) == 32
     assert sim.simxLoadScene(client, "x.ttt", 0, B) == 32
     assert sim.simxSomethingNew(client) == 32
@@ -265,8 +288,7 @@ def test_proximity_sensor_sees_an_obstacle_ahead():
         assert point[2] == pytest.approx(1.5 - 1.2 - 0.047, abs=0.03)  # z = sensing direction
         assert obj == 0 and normal[2] < -0.9
         code, euler = sim.simxGetObjectOrientation(cid, sensor, handle(cid, "cart"), B)
-        assert np.allclose(g.euler_to_matrix(euler),
-                           [[0, 0, 1], [1, 0, 0], [0, 1, 0]], atol=1e-5)
+        assert np.allclose(g.euler_to_matrix(euler), [[0, 0, 1], [1, 0, 0], [0, 1, 0]], atol=1e-5)
     finally:
         set_session(previous)
         s.close()
@@ -274,17 +296,34 @@ def test_proximity_sensor_sees_an_obstacle_ahead():
 
 def test_group_data_types(session, client):
     code, handles, ints, floats, strings = sim.simxGetObjectGroupData(
-        client, sim.sim_appobj_object_type, 0, B)
+        client, sim.sim_appobj_object_type, 0, B
+    )
     assert code == 0 and "2W1A" in strings and len(handles) == len(strings)
     n = len(handles)
-    sizes = {1: (n, 0), 2: (n, 0), 3: (0, 3 * n), 4: (0, 3 * n), 5: (0, 3 * n), 7: (0, 4 * n),
-             9: (0, 6 * n), 11: (0, 7 * n), 13: (2 * n, 6 * n), 15: (0, 2 * n),
-             16: (2 * n, 2 * n), 17: (0, 3 * n), 18: (0, 3 * n), 19: (0, 6 * n)}
+    sizes = {
+        1: (n, 0),
+        2: (n, 0),
+        3: (0, 3 * n),
+        4: (0, 3 * n),
+        5: (0, 3 * n),
+        7: (0, 4 * n),
+        9: (0, 6 * n),
+        11: (0, 7 * n),
+        13: (2 * n, 6 * n),
+        15: (0, 2 * n),
+        16: (2 * n, 2 * n),
+        17: (0, 3 * n),
+        18: (0, 3 * n),
+        19: (0, 6 * n),
+    }
     for data_type, (ni, nf) in sizes.items():
         code, _, ints, floats, _ = sim.simxGetObjectGroupData(
-            client, sim.sim_appobj_object_type, data_type, B)
+            client, sim.sim_appobj_object_type, data_type, B
+        )
         assert (code, len(ints), len(floats)) == (0, ni, nf), data_type
-    code, joints, _, floats, _ = sim.simxGetObjectGroupData(client, sim.sim_object_joint_type, 15, B)
+    code, joints, _, floats, _ = sim.simxGetObjectGroupData(
+        client, sim.sim_object_joint_type, 15, B
+    )
     assert code == 0 and len(joints) == 5
     assert sim.simxGetObjectGroupData(client, sim.sim_appobj_object_type, 99, B)[0] == 8
 

@@ -192,12 +192,21 @@ def test_corrections_can_fix_what_would_be_an_error(tmp_path: Path) -> None:
 
 
 def test_expected_ids_silence_the_shape_warning_for_exactly_those_ids(tmp_path):
-    roster = ("g1\t40823101\t40823101\t40823102\t40823102\t40623121\t40623121\n"
-              "g2\t40823103\t40823103\t40823104\t40823104\t40523252\t40523252\n")
-    r, c = setup(tmp_path, 'expected_ids:\n  "40623121": "repeating the course"\n  "40999999": "left"\n', roster)
+    roster = (
+        "g1\t40823101\t40823101\t40823102\t40823102\t40623121\t40623121\n"
+        "g2\t40823103\t40823103\t40823104\t40823104\t40523252\t40523252\n"
+    )
+    r, c = setup(
+        tmp_path,
+        'expected_ids:\n  "40623121": "repeating the course"\n  "40999999": "left"\n',
+        roster,
+    )
     result = load_roster(r, corrections=c)
     shape = [d for d in result.warnings if "looks unlike" in d.message]
     assert [d.message.split()[1] for d in shape] == ["40523252"]
-    assert any("40623121" in d.message and "repeating the course" in d.message for d in result.corrections_applied)
+    assert any(
+        "40623121" in d.message and "repeating the course" in d.message
+        for d in result.corrections_applied
+    )
     unmatched = [d for d in result.warnings if "matched nothing" in d.message]
     assert len(unmatched) == 1 and unmatched[0].line == 3 and "40999999" in unmatched[0].message

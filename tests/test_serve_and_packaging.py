@@ -20,8 +20,21 @@ def _get(url: str) -> str:
 def test_serve_rebuilds_on_change_and_signals_reload(tmp_path):
     src = write_tree(tmp_path / "s", {"index.md": "# Home\n\nfirst version\n"})
     proc = subprocess.Popen(
-        [sys.executable, "-m", "sitegen", "serve", "--source", str(src), "--output", str(tmp_path / "o"), "--port", "0"],
-        stderr=subprocess.PIPE, text=True)
+        [
+            sys.executable,
+            "-m",
+            "sitegen",
+            "serve",
+            "--source",
+            str(src),
+            "--output",
+            str(tmp_path / "o"),
+            "--port",
+            "0",
+        ],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         port = None
         deadline = time.time() + 60
@@ -49,15 +62,27 @@ def test_serve_rebuilds_on_change_and_signals_reload(tmp_path):
 
 
 def test_wheel_contains_theme_and_all_packages(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
-                             "-w", str(tmp_path), str(REPO)], capture_output=True, text=True, timeout=300)
+    result = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-w", str(tmp_path), str(REPO)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert result.returncode == 0, result.stderr[-2000:]
     wheel = next(tmp_path.glob("sitegen-*.whl"))
     names = set(zipfile.ZipFile(wheel).namelist())
-    for needed in ("sitegen/_theme/base.html", "sitegen/_theme/assets/search.js", "sitegen/cli.py",
-                   "roster/__init__.py", "sims/world.py"):
+    for needed in (
+        "sitegen/_theme/base.html",
+        "sitegen/_theme/assets/search.js",
+        "sitegen/cli.py",
+        "roster/__init__.py",
+        "sims/world.py",
+    ):
         assert needed in names, needed
-    on_disk = {p.parent.relative_to(REPO).as_posix() for p in REPO.glob("*/**/__init__.py")
-               if p.parts[len(REPO.parts)] in ("sitegen", "roster", "sims")}
+    on_disk = {
+        p.parent.relative_to(REPO).as_posix()
+        for p in REPO.glob("*/**/__init__.py")
+        if p.parts[len(REPO.parts)] in ("sitegen", "roster", "sims")
+    }
     in_wheel = {n.rsplit("/", 1)[0] for n in names if n.endswith("__init__.py")}
     assert on_disk <= in_wheel, f"packages missing from pyproject: {sorted(on_disk - in_wheel)}"

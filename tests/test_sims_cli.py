@@ -11,15 +11,31 @@ from sims.plot import nice_step, path_svg
 def test_list_prints_every_scenario(capsys):
     assert main(["list"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert [line.split()[0] for line in out] == ["2w1a-random", "cart-avoid", "cart-keyboard",
-                                                 "cart-reverse"]
+    assert [line.split()[0] for line in out] == [
+        "2w1a-random",
+        "cart-avoid",
+        "cart-keyboard",
+        "cart-reverse",
+    ]
     assert "75 s" in out[0]
 
 
 def test_render_writes_clip_files(tmp_path, capsys):
     out, cache = tmp_path / "out", tmp_path / "cache"
-    args = ["render", "cart-reverse", "--size", "96x64", "--fps", "10", "--seconds", "1",
-            "--out", str(out), "--cache", str(cache)]
+    args = [
+        "render",
+        "cart-reverse",
+        "--size",
+        "96x64",
+        "--fps",
+        "10",
+        "--seconds",
+        "1",
+        "--out",
+        str(out),
+        "--cache",
+        str(cache),
+    ]
     assert main(args) == 0
     line = capsys.readouterr().out.strip()
     assert line.startswith("ok      cart-reverse: 10 frames 96x64, rendered")
@@ -32,8 +48,10 @@ def test_render_writes_clip_files(tmp_path, capsys):
 def test_usage_errors_exit_2_with_one_line(capsys):
     assert main(["render", "nope"], prog="sitegen sims") == 2
     err = capsys.readouterr().err.splitlines()
-    assert err[0] == ("sitegen sims: unknown scenario nope (known: 2w1a-random, cart-avoid, "
-                      "cart-keyboard, cart-reverse)")
+    assert err[0] == (
+        "sitegen sims: unknown scenario nope (known: 2w1a-random, cart-avoid, "
+        "cart-keyboard, cart-reverse)"
+    )
     assert main(["render", "cart-reverse", "--size", "big"]) == 2
     assert main([]) == 2
     assert main(["frobnicate"]) == 2

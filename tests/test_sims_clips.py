@@ -19,8 +19,9 @@ FRAMES = round(FPS * SECONDS)
 
 
 def small(name: str, scenario: str | None = None, **kw) -> ClipSpec:
-    return ClipSpec(name=name, scenario=scenario or name, width=W, height=H, fps=FPS,
-                    seconds=SECONDS, **kw)
+    return ClipSpec(
+        name=name, scenario=scenario or name, width=W, height=H, fps=FPS, seconds=SECONDS, **kw
+    )
 
 
 # Source kinds for failure tests; workers import them from this module by name.
@@ -116,7 +117,9 @@ def test_cache_key_follows_params_seed_and_size(gallery):
     base = first[1].meta["key"]
     for spec in (small("cart-reverse", seed=3), small("cart-reverse", params={"speed": -2.0})):
         assert render_clips([spec], cache)[0].meta["key"] != base
-    bigger = ClipSpec("cart-reverse", "cart-reverse", width=W + 2, height=H, fps=FPS, seconds=SECONDS)
+    bigger = ClipSpec(
+        "cart-reverse", "cart-reverse", width=W + 2, height=H, fps=FPS, seconds=SECONDS
+    )
     assert render_clips([bigger], cache)[0].meta["key"] != base
 
 
@@ -125,11 +128,18 @@ def test_a_failing_clip_is_reported_by_name_and_keeps_the_stale_render(tmp_path)
     first = render_clips([small("demo", "cart-reverse")], tmp_path)[0]
     assert first.ok
     events: list[ClipEvent] = []
-    results = render_clips([ClipSpec("demo", "cart-reverse", W, H, FPS, SECONDS, kind="test-failing"),
-                            small("fine", "cart-keyboard")],
-                           tmp_path, progress=events.append)
+    results = render_clips(
+        [
+            ClipSpec("demo", "cart-reverse", W, H, FPS, SECONDS, kind="test-failing"),
+            small("fine", "cart-keyboard"),
+        ],
+        tmp_path,
+        progress=events.append,
+    )
     bad, good = results
-    assert not bad.ok and bad.stale and "cart-reverse" in bad.error and "motor exploded" in bad.error
+    assert (
+        not bad.ok and bad.stale and "cart-reverse" in bad.error and "motor exploded" in bad.error
+    )
     assert bad.files == first.files and bad.files["video"].is_file()
     assert good.ok and good.rendered
     assert ("demo", "failed") in [(e.name, e.status) for e in events]
@@ -156,8 +166,11 @@ def test_a_stepping_clip_past_its_time_limit_stops_itself(tmp_path):
 
 def test_identical_content_under_two_names_renders_once(tmp_path):
     events: list[ClipEvent] = []
-    twins = render_clips([small("twin-a", "cart-reverse"), small("twin-b", "cart-reverse")],
-                         tmp_path, progress=events.append)
+    twins = render_clips(
+        [small("twin-a", "cart-reverse"), small("twin-b", "cart-reverse")],
+        tmp_path,
+        progress=events.append,
+    )
     assert [r.rendered for r in twins] == [True, False]
     assert twins[0].files == twins[1].files and twins[1].meta["name"] == "twin-b"
     assert ("twin-b", "cached") in [(e.name, e.status) for e in events]

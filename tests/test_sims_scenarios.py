@@ -83,9 +83,14 @@ def test_cart_avoid_never_touches_an_obstacle(seed):
     with World("cart", seed=scenario.seed if seed is None else seed) as world:
         touches: list = []
         world.add_step_hook(lambda w: touches.extend(w.obstacle_contacts()))
-        recorder = Recorder(world, fps=20, frames=round(params["seconds"] * 20),
-                            joints=scenario.joints, quantity="speed",
-                            extra_columns=scenario.extra_columns)
+        recorder = Recorder(
+            world,
+            fps=20,
+            frames=round(params["seconds"] * 20),
+            joints=scenario.joints,
+            quantity="speed",
+            extra_columns=scenario.extra_columns,
+        )
         rec = drive(world, recorder, lambda w, r: scenario.run(w, params, r))
     assert touches == []
     xs, ys = rec.column("x"), rec.column("y")
@@ -100,4 +105,6 @@ def test_recording_formats_are_deterministic_and_rounded():
     assert csv.splitlines()[0].startswith("t,x,y,z,alpha_deg,beta_deg,gamma_deg,heading_deg")
     assert "-0.0000" not in csv and "e-" not in csv
     assert csv.splitlines()[1].startswith("0.000,0.0000,0.0000,")
-    assert rec.to_json(scenario="x") == run_scenario("cart-reverse", params={"seconds": 1.0}).to_json(scenario="x")
+    assert rec.to_json(scenario="x") == run_scenario(
+        "cart-reverse", params={"seconds": 1.0}
+    ).to_json(scenario="x")

@@ -40,7 +40,8 @@ def test_saved_pose_in_coppeliasim_convention():
         foot_bottom = p.getAABB(robot, 4, physicsClientId=w.client_id)[0][2]
         assert abs(foot_bottom) < 0.003  # the hand's foot rests on the floor
         assert [math.degrees(w.joint_position(j)) for j in ARM] == pytest.approx(
-            [150.0, 120.0, 250.0], abs=TOLERANCE_DEG)
+            [150.0, 120.0, 250.0], abs=TOLERANCE_DEG
+        )
 
 
 @pytest.mark.parametrize("targets", [(68, 291, 32), (130, 60, 253), (230, 241, 194)])

@@ -59,7 +59,7 @@ def test_menu_expands_only_the_current_branch(course):
     page = read(out, "stage-1/w1/建立倉儲.html")
     menu = re.search(r'<nav id="nav".*?</nav>', page, re.S).group(0)
     assert "建立倉儲" in menu and "利用SSH維護倉儲" in menu  # siblings in the open branch
-    assert "錯誤排解" not in menu                           # W2's pages stay collapsed
+    assert "錯誤排解" not in menu  # W2's pages stay collapsed
     assert 'aria-current="page"' in menu
     sitemap = read(out, "sitemap.html")
     for title in ("錯誤排解", "建立倉儲", "W10", "Collaboration"):
@@ -96,7 +96,7 @@ def test_toc_lists_h2_and_h3(course):
 def test_search_index_holds_chinese_running_text(course):
     _src, out = course
     js = read(out, "assets/search-index.js")
-    records = json.loads(js[len("window.SITEGEN_SEARCH="):-2])
+    records = json.loads(js[len("window.SITEGEN_SEARCH=") : -2])
     gears = next(r for r in records if r["t"] == "錯誤排解")
     assert "錯誤排解齒輪方向與速度的問題" in gears["x"]
     assert gears["u"] == "stage-1/w2/錯誤排解.html"
@@ -106,7 +106,7 @@ def test_search_index_holds_chinese_running_text(course):
 def test_site_files_for_github_pages(course):
     _src, out = course
     assert (out / ".nojekyll").exists()
-    assert "<base href=\"https://40823112.github.io/cd2021/\">" in read(out, "404.html")
+    assert '<base href="https://40823112.github.io/cd2021/">' in read(out, "404.html")
     xml = read(out, "sitemap.xml")
     assert "<loc>https://40823112.github.io/cd2021/</loc>" in xml
     assert "https://40823112.github.io/cd2021/stage-1/w1/index.html" in xml
@@ -130,20 +130,26 @@ def test_source_date_epoch_is_the_only_date(tmp_path, monkeypatch):
     assert "<lastmod>2021-01-01</lastmod>" in read(tmp_path / "o", "sitemap.xml")
 
 
-@pytest.mark.parametrize(("title", "slug"), [
-    ("W1 利用SSH維護倉儲", "w1-利用ssh維護倉儲"),
-    ("Task 2-2: Remote API!", "task-2-2-remote-api"),
-    ("../../etc/passwd", "etc-passwd"),
-    ("CON", "con-"),
-    ("???", "page"),
-    ("ＡＢＣ　全形", "abc-全形"),
-])
+@pytest.mark.parametrize(
+    ("title", "slug"),
+    [
+        ("W1 利用SSH維護倉儲", "w1-利用ssh維護倉儲"),
+        ("Task 2-2: Remote API!", "task-2-2-remote-api"),
+        ("../../etc/passwd", "etc-passwd"),
+        ("CON", "con-"),
+        ("???", "page"),
+        ("ＡＢＣ　全形", "abc-全形"),
+    ],
+)
 def test_slugs_are_readable_and_safe(title, slug):
     assert slugify(title) == slug
 
 
 def test_duplicate_titles_get_distinct_urls(tmp_path):
-    src = write_tree(tmp_path / "d", {"a.md": "# 討論\n", "b.md": "# 討論\n", "c.md": "---\nslug: index\n---\n# X\n"})
+    src = write_tree(
+        tmp_path / "d",
+        {"a.md": "# 討論\n", "b.md": "# 討論\n", "c.md": "---\nslug: index\n---\n# X\n"},
+    )
     run_build(src, tmp_path / "o")
     names = sorted(p.name for p in (tmp_path / "o").glob("*.html"))
     assert "討論.html" in names and "討論-2.html" in names
@@ -151,22 +157,27 @@ def test_duplicate_titles_get_distinct_urls(tmp_path):
 
 
 def test_plain_folder_without_config_builds(tmp_path):
-    src = write_tree(tmp_path / "notes", {
-        "readme.md": "Intro text, no heading.\n",
-        "Part One/first.md": "# First\n",
-        "Part One/second.md": "no heading here\n",
-    })
+    src = write_tree(
+        tmp_path / "notes",
+        {
+            "readme.md": "Intro text, no heading.\n",
+            "Part One/first.md": "# First\n",
+            "Part One/second.md": "no heading here\n",
+        },
+    )
     result = run_cli("build", "--source", str(src), "--output", str(tmp_path / "o"))
     assert result.returncode == 0, result.stderr
     out = tmp_path / "o"
-    assert (out / "part-one/index.html").exists()       # folder -> section
+    assert (out / "part-one/index.html").exists()  # folder -> section
     assert "<h1>second</h1>" in read(out, "part-one/second.html")  # title from file name
     assert "<h1>First</h1>" in read(out, "part-one/first.html")
     assert check_site(out) == []
 
 
 def test_broken_links_warn_with_file_and_line_and_fail_strict(tmp_path):
-    src = write_tree(tmp_path / "s", {"index.md": "# Home\n\nline three\n[x](missing.md) [y](#nowhere)\n"})
+    src = write_tree(
+        tmp_path / "s", {"index.md": "# Home\n\nline three\n[x](missing.md) [y](#nowhere)\n"}
+    )
     result = run_cli("build", "--source", str(src), "--output", str(tmp_path / "o"))
     assert result.returncode == 0
     assert "index.md:4: warning: link: link target 'missing.md' does not exist" in result.stderr
@@ -178,7 +189,10 @@ def test_broken_links_warn_with_file_and_line_and_fail_strict(tmp_path):
 
 
 def test_code_blocks_are_highlighted_and_tables_render(tmp_path):
-    src = write_tree(tmp_path / "s", {"index.md": "# H\n\n```python\nimport sim\n```\n\n| a | b |\n|---|---|\n| 1 | 2 |\n"})
+    src = write_tree(
+        tmp_path / "s",
+        {"index.md": "# H\n\n```python\nimport sim\n```\n\n| a | b |\n|---|---|\n| 1 | 2 |\n"},
+    )
     run_build(src, tmp_path / "o")
     page = read(tmp_path / "o", "index.html")
     assert '<div class="highlight">' in page and '<span class="kn">import</span>' in page
@@ -186,7 +200,9 @@ def test_code_blocks_are_highlighted_and_tables_render(tmp_path):
 
 
 def test_roster_like_text_is_escaped_in_titles(tmp_path):
-    src = write_tree(tmp_path / "s", {"x.md": "---\ntitle: '<script>alert(1)</script>'\n---\nbody\n"})
+    src = write_tree(
+        tmp_path / "s", {"x.md": "---\ntitle: '<script>alert(1)</script>'\n---\nbody\n"}
+    )
     run_build(src, tmp_path / "o")
     html = "".join(p.read_text(encoding="utf-8") for p in (tmp_path / "o").glob("*.html"))
     assert "<script>alert(1)</script>" not in html

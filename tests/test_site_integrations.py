@@ -23,14 +23,17 @@ FIX = 'aliases:\n  "40823112": "a40823112"\ngroup_names:\n  - {replace: "_", wit
 
 @pytest.fixture()
 def roster_project(tmp_path: Path) -> Path:
-    return write_tree(tmp_path / "p", {
-        "sitegen.yml": ROSTER_CFG,
-        "data/roster.txt": (SHARED / "data/stage3_2a.txt").read_text(encoding="utf-8"),
-        "data/fix.yml": FIX,
-        "content/index.md": "# Home\n",
-        "content/stage-3/grouping/index.md": "# Stage 3 分組\n",
-        "content/stage-3/w12/task1.md": "# Task 1\n\n::: roster stage3-2a\n",
-    })
+    return write_tree(
+        tmp_path / "p",
+        {
+            "sitegen.yml": ROSTER_CFG,
+            "data/roster.txt": (SHARED / "data/stage3_2a.txt").read_text(encoding="utf-8"),
+            "data/fix.yml": FIX,
+            "content/index.md": "# Home\n",
+            "content/stage-3/grouping/index.md": "# Stage 3 分組\n",
+            "content/stage-3/w12/task1.md": "# Task 1\n\n::: roster stage3-2a\n",
+        },
+    )
 
 
 def test_roster_page_lists_every_group_with_anchors_and_json(roster_project, tmp_path):
@@ -55,8 +58,8 @@ def test_roster_edit_is_reported_on_rebuild(roster_project, tmp_path):
     run_build(roster_project, out)
     path = roster_project / "data/roster.txt"
     lines = path.read_text(encoding="utf-8").split("\n")
-    lines[0] = lines[0].replace("\t40823108\t40823108", "")          # remove from ag1
-    lines[1] = lines[1] + "\t40823108\t40823108"                     # ... add to ag2
+    lines[0] = lines[0].replace("\t40823108\t40823108", "")  # remove from ag1
+    lines[1] = lines[1] + "\t40823108\t40823108"  # ... add to ag2
     path.write_text("\n".join(lines), encoding="utf-8")
     report = run_build(roster_project, out)
     assert any("40823108" in n and "moved" in n for n in report.notes), report.notes
@@ -67,7 +70,9 @@ def test_unsafe_account_fails_the_build_with_file_and_line(roster_project, tmp_p
     run_build(roster_project, out)
     before = (out / "roster/stage3-2a.json").read_bytes()
     path = roster_project / "data/roster.txt"
-    text = path.read_text(encoding="utf-8").replace("\t40823151\t40823151", "\t40823151\tjavascript:alert(1)")
+    text = path.read_text(encoding="utf-8").replace(
+        "\t40823151\t40823151", "\t40823151\tjavascript:alert(1)"
+    )
     path.write_text(text, encoding="utf-8")
     result = run_cli("build", "--source", str(roster_project), "--output", str(out))
     assert result.returncode == 1
@@ -88,7 +93,9 @@ sims:
 @pytest.fixture(scope="module")
 def sims_site(tmp_path_factory) -> tuple[Path, Path]:
     root = tmp_path_factory.mktemp("sims")
-    src = write_tree(root / "p", {"sitegen.yml": SIMS_CFG, "content/index.md": "# Home\n\n::: clip rev\n"})
+    src = write_tree(
+        root / "p", {"sitegen.yml": SIMS_CFG, "content/index.md": "# Home\n\n::: clip rev\n"}
+    )
     out = root / "o"
     run_build(src, out)
     return src, out
@@ -98,7 +105,13 @@ def test_clip_directive_embeds_a_browser_friendly_video(sims_site):
     _src, out = sims_site
     page = (out / "index.html").read_text(encoding="utf-8")
     video = re.search(r"<video[^>]*>", page).group(0)
-    for attr in ("controls", "muted", "playsinline", 'preload="metadata"', 'poster="clips/rev/poster.png"'):
+    for attr in (
+        "controls",
+        "muted",
+        "playsinline",
+        'preload="metadata"',
+        'poster="clips/rev/poster.png"',
+    ):
         assert attr in video
     assert '<source src="clips/rev/clip.webm" type="video/webm">' in page
     for name in ("clip.webm", "poster.png", "data.csv", "data.json", "path.svg"):
@@ -124,8 +137,15 @@ def test_failed_clip_is_named_keeps_previous_render_and_fails_strict(sims_site, 
 
 
 def test_unknown_clip_name_in_a_page_is_an_error_with_line(tmp_path):
-    src = write_tree(tmp_path / "p", {"sitegen.yml": SIMS_CFG.replace("clips:\n    - {name: rev, scenario: cart-reverse, seconds: 1.5}\n", "clips: []\n"),
-                                      "content/index.md": "# Home\n\ntext\n\n::: clip nope\n"})
+    src = write_tree(
+        tmp_path / "p",
+        {
+            "sitegen.yml": SIMS_CFG.replace(
+                "clips:\n    - {name: rev, scenario: cart-reverse, seconds: 1.5}\n", "clips: []\n"
+            ),
+            "content/index.md": "# Home\n\ntext\n\n::: clip nope\n",
+        },
+    )
     with pytest.raises(BuildError) as info:
         run_build(src, tmp_path / "o")
     assert any(d.line == 5 and "no clip named 'nope'" in d.message for d in info.value.diagnostics)

@@ -35,7 +35,9 @@ MIN_MAJOR = {
     "actions/upload-pages-artifact": 3,
     "actions/deploy-pages": 4,
 }
-PINNED = re.compile(r"^(?P<action>[\w.-]+/[\w./-]+)@(?P<ref>v(?P<major>\d+)(\.\d+){0,2}|[0-9a-f]{40})$")
+PINNED = re.compile(
+    r"^(?P<action>[\w.-]+/[\w./-]+)@(?P<ref>v(?P<major>\d+)(\.\d+){0,2}|[0-9a-f]{40})$"
+)
 
 
 def load(path: Path) -> dict:
@@ -85,11 +87,13 @@ def readme_test_command() -> str:
     head = (REPO / "README.md").read_text(encoding="utf-8").splitlines()[:README_HEAD_LINES]
     fences = [i for i, line in enumerate(head) if line.lstrip().startswith("```")]
     if len(fences) < 2:
-        warnings.warn("README.md has no fenced block in its first lines yet; using the expected one",
-                      stacklevel=2)
+        warnings.warn(
+            "README.md has no fenced block in its first lines yet; using the expected one",
+            stacklevel=2,
+        )
         block = EXPECTED_README_BLOCK
     else:
-        block = [line.strip() for line in head[fences[0] + 1:fences[1]] if line.strip()]
+        block = [line.strip() for line in head[fences[0] + 1 : fences[1]] if line.strip()]
     build = [line for line in block if line.endswith("sitegen build")]
     test = [line for line in block if "pytest" in line]
     assert build, f"README.md's first block has no command ending in 'sitegen build': {block}"
@@ -115,7 +119,9 @@ def test_ci_runs_on_every_push_and_pull_request(ci: dict) -> None:
     assert "push" in on and "pull_request" in on
     for event in ("push", "pull_request"):
         filters = on[event] or {}
-        assert not set(filters) & {"branches", "paths", "tags"}, f"CI {event} is filtered: {filters}"
+        assert not set(filters) & {"branches", "paths", "tags"}, (
+            f"CI {event} is filtered: {filters}"
+        )
 
 
 def test_ci_runs_the_readme_test_command(ci: dict) -> None:
@@ -124,7 +130,9 @@ def test_ci_runs_the_readme_test_command(ci: dict) -> None:
     env = {**ci.get("env", {}), **next(iter(ci["jobs"].values())).get("env", {})}
     step = next(s for s in steps(ci) if command in str(s.get("run", "")))
     env.update(step.get("env", {}))
-    assert str(env.get("CI", "")).lower() == "true", "CI=true makes the browser/shared tests fail, not skip"
+    assert str(env.get("CI", "")).lower() == "true", (
+        "CI=true makes the browser/shared tests fail, not skip"
+    )
 
 
 def test_ci_script_runs_the_readme_test_command() -> None:
@@ -155,10 +163,12 @@ def _checks_out_shared_beside_repo(wf: dict) -> None:
     assert "SHARED_REPO" in str(step.get("if", "")), "skip the checkout when SHARED_REPO is unset"
     inside = str(step["with"]["path"]).strip("/")
     assert not inside.startswith(".."), "actions/checkout cannot write outside the workspace"
-    assert any(re.search(rf"(mv|ln -s\w*) +{re.escape(inside)}/? +\.\./shared", r) for r in runs(wf)), \
-        "shared/ must end up at ../shared"
-    assert any("::warning" in r or "::notice" in r or "::error" in r for r in runs(wf)), \
+    assert any(
+        re.search(rf"(mv|ln -s\w*) +{re.escape(inside)}/? +\.\./shared", r) for r in runs(wf)
+    ), "shared/ must end up at ../shared"
+    assert any("::warning" in r or "::notice" in r or "::error" in r for r in runs(wf)), (
         "say clearly when SHARED_REPO is unset"
+    )
 
 
 def test_ci_puts_the_shared_data_beside_the_repo(ci: dict) -> None:
@@ -202,7 +212,9 @@ def test_pages_caches_clips_by_content_hash(pages: dict) -> None:
     for pattern in ("sims/**/*.py", "sitegen.yml", "data/**"):
         assert pattern in key, f"clip cache key ignores {pattern}"
     prefix = key.split("${{")[0]
-    assert prefix and prefix in str(opts["restore-keys"]).split(), "restore-keys: a partial hit is safe"
+    assert prefix and prefix in str(opts["restore-keys"]).split(), (
+        "restore-keys: a partial hit is safe"
+    )
     assert steps(pages, "build").index(cache) < run_index(pages, "build", "sitegen build")
 
 

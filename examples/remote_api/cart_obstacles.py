@@ -27,11 +27,13 @@ _, sensor = sim.simxGetObjectHandle(client, "Proximity_sensor", sim.simx_opmode_
 
 code, joints = sim.simxGetObjects(client, sim.sim_object_joint_type, sim.simx_opmode_blocking)
 print("joints:", len(joints))
-code, handles, _, _, names = sim.simxGetObjectGroupData(client, sim.sim_appobj_object_type, 0,
-                                                        sim.simx_opmode_blocking)
+code, handles, _, _, names = sim.simxGetObjectGroupData(
+    client, sim.sim_appobj_object_type, 0, sim.simx_opmode_blocking
+)
 print("objects:", ", ".join(names))
-code, handles, _, floats, _ = sim.simxGetObjectGroupData(client, sim.sim_object_joint_type, 15,
-                                                         sim.simx_opmode_blocking)
+code, handles, _, floats, _ = sim.simxGetObjectGroupData(
+    client, sim.sim_object_joint_type, 15, sim.simx_opmode_blocking
+)
 print("joint states:", code, len(floats))
 
 # Stream the sensor and the pose; the first streaming calls return novalue.
@@ -42,7 +44,8 @@ turns = 0
 mode = None
 while time.time() - start < 20:
     code, detected, point, obj, normal = sim.simxReadProximitySensor(
-        client, sensor, sim.simx_opmode_buffer)
+        client, sensor, sim.simx_opmode_buffer
+    )
     near = code == sim.simx_return_ok and detected and math.dist(point, (0, 0, 0)) < 0.3
     wanted = "turn" if near else "forward"
     if wanted != mode:

@@ -23,7 +23,10 @@ print("invalid handle:", sim.simxGetObjectPosition(client, 9999, -1, sim.simx_op
 _, body = sim.simxGetObjectHandle(client, "2W1A", sim.simx_opmode_blocking)
 # A joint function on an object that is not a joint: remote error.
 print("not a joint:", sim.simxGetJointPosition(client, body, sim.simx_opmode_blocking))
-print("set on not a joint:", sim.simxSetJointTargetVelocity(client, body, 1.0, sim.simx_opmode_blocking))
+print(
+    "set on not a joint:",
+    sim.simxSetJointTargetVelocity(client, body, 1.0, sim.simx_opmode_blocking),
+)
 
 # With oneshot, the error arrives with the reply: novalue first, then the error.
 print("oneshot error 1:", sim.simxGetObjectPosition(client, 9999, -1, sim.simx_opmode_oneshot)[0])

@@ -39,8 +39,7 @@ print("body relative to itself:", [round(a, 6) + 0.0 for a in rel])
 
 # Moving the model: set the base's pose (a link of the chain cannot be moved on its own).
 print("set position:", sim.simxSetObjectPosition(client, body, -1, [0.5, 0.2, 0.07], B))
-print("set orientation:", sim.simxSetObjectOrientation(client, body, -1,
-                                                       [0, math.pi / 2, 0], B))
+print("set orientation:", sim.simxSetObjectOrientation(client, body, -1, [0, math.pi / 2, 0], B))
 print("set quaternion:", sim.simxSetObjectQuaternion(client, body, -1, quat, B))
 code, pos = sim.simxGetObjectPosition(client, body, -1, B)
 print("body now at:", [round(v, 3) for v in pos])

@@ -34,8 +34,12 @@ code, _ = sim.simxGetJointPosition(client, shoulder, sim.simx_opmode_buffer)
 print("buffer after blocking:", code)
 
 # Oneshot setters: the first call returns novalue, later calls the previous reply (ok).
-print("oneshot status bar 1:", sim.simxAddStatusbarMessage(client, "hello", sim.simx_opmode_oneshot))
-print("oneshot status bar 2:", sim.simxAddStatusbarMessage(client, "again", sim.simx_opmode_oneshot))
+print(
+    "oneshot status bar 1:", sim.simxAddStatusbarMessage(client, "hello", sim.simx_opmode_oneshot)
+)
+print(
+    "oneshot status bar 2:", sim.simxAddStatusbarMessage(client, "again", sim.simx_opmode_oneshot)
+)
 
 # Oneshot getters return the previous reply to the same command.
 code, _ = sim.simxGetJointPosition(client, shoulder, sim.simx_opmode_oneshot)

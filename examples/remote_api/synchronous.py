@@ -12,8 +12,9 @@ print("connection id:", sim.simxGetConnectionId(client))
 code, ping = sim.simxGetPingTime(client)
 print("ping:", code, ping >= 0)
 
-code, step = sim.simxGetFloatingParameter(client, sim.sim_floatparam_simulation_time_step,
-                                          sim.simx_opmode_blocking)
+code, step = sim.simxGetFloatingParameter(
+    client, sim.sim_floatparam_simulation_time_step, sim.simx_opmode_blocking
+)
 print("simulation step (s):", round(step, 3))
 
 _, wrist = sim.simxGetObjectHandle(client, "WristMotor", sim.simx_opmode_blocking)

@@ -110,7 +110,9 @@ def quat_rotating(a: Vec3, b: Vec3) -> Quat:
     dot = ax * bx + ay * by + az * bz
     if dot < -0.999999:  # opposite: rotate 180 degrees about any perpendicular axis
         perp = (1.0, 0.0, 0.0) if abs(ax) < 0.9 else (0.0, 1.0, 0.0)
-        px, py, pz = _unit((ay * perp[2] - az * perp[1], az * perp[0] - ax * perp[2], ax * perp[1] - ay * perp[0]))
+        px, py, pz = _unit(
+            (ay * perp[2] - az * perp[1], az * perp[0] - ax * perp[2], ax * perp[1] - ay * perp[0])
+        )
         return (px, py, pz, 0.0)
     w = 1.0 + dot
     n = math.sqrt(cx * cx + cy * cy + cz * cz + w * w)
@@ -134,10 +136,17 @@ def distance(a: Vec3, b: Vec3) -> float:
     return math.dist(a, b)
 
 
-def add_checker_floor(client: int, size: float, tile: float, pattern: float | None = None,
-                      thickness: float = 0.02,
-                      colors: tuple[tuple[float, ...], tuple[float, ...]] = (
-                          (0.82, 0.84, 0.86, 1.0), (0.62, 0.66, 0.72, 1.0))) -> int:
+def add_checker_floor(
+    client: int,
+    size: float,
+    tile: float,
+    pattern: float | None = None,
+    thickness: float = 0.02,
+    colors: tuple[tuple[float, ...], tuple[float, ...]] = (
+        (0.82, 0.84, 0.86, 1.0),
+        (0.62, 0.66, 0.72, 1.0),
+    ),
+) -> int:
     """A static floor box, top surface at z=0, with a checker pattern of thin dark tiles.
 
     The pattern is geometry rather than a texture file so the scene needs no data files, and it
@@ -146,28 +155,42 @@ def add_checker_floor(client: int, size: float, tile: float, pattern: float | No
     central ``pattern`` metres are tiled (default: all of it) to bound the shape count.
     """
     half = size / 2
-    col = p.createCollisionShape(p.GEOM_BOX, halfExtents=(half, half, thickness / 2),
-                                 physicsClientId=client)
+    col = p.createCollisionShape(
+        p.GEOM_BOX, halfExtents=(half, half, thickness / 2), physicsClientId=client
+    )
     # The light surface is drawn 3 mm low and the tiles fill up to z=0: thinner tiles are lost
     # to depth-buffer precision, and nothing drawn sticks out above the real floor.
-    base_vis = p.createVisualShape(p.GEOM_BOX, halfExtents=(half, half, thickness / 2),
-                                   visualFramePosition=(0, 0, -TILE_DEPTH),
-                                   rgbaColor=colors[0], physicsClientId=client)
-    floor = p.createMultiBody(0, col, base_vis, basePosition=(0, 0, -thickness / 2),
-                              physicsClientId=client)
+    base_vis = p.createVisualShape(
+        p.GEOM_BOX,
+        halfExtents=(half, half, thickness / 2),
+        visualFramePosition=(0, 0, -TILE_DEPTH),
+        rgbaColor=colors[0],
+        physicsClientId=client,
+    )
+    floor = p.createMultiBody(
+        0, col, base_vis, basePosition=(0, 0, -thickness / 2), physicsClientId=client
+    )
     p.changeDynamics(floor, -1, lateralFriction=1.0, physicsClientId=client)
     p.changeVisualShape(floor, -1, specularColor=(0, 0, 0), physicsClientId=client)
     span = min(size, pattern or size)
     n = max(1, round(span / tile))
     corner = -n * tile / 2
-    positions = [(corner + (i + 0.5) * tile, corner + (j + 0.5) * tile, -TILE_DEPTH / 2)
-                 for i in range(n) for j in range(n) if (i + j) % 2 == 0]
+    positions = [
+        (corner + (i + 0.5) * tile, corner + (j + 0.5) * tile, -TILE_DEPTH / 2)
+        for i in range(n)
+        for j in range(n)
+        if (i + j) % 2 == 0
+    ]
     for start in range(0, len(positions), MAX_COMPOUND):
-        chunk = positions[start:start + MAX_COMPOUND]
-        vis = p.createVisualShapeArray([p.GEOM_BOX] * len(chunk),
-                                       halfExtents=[(tile / 2, tile / 2, TILE_DEPTH / 2)] * len(chunk),
-                                       visualFramePositions=chunk, physicsClientId=client)
+        chunk = positions[start : start + MAX_COMPOUND]
+        vis = p.createVisualShapeArray(
+            [p.GEOM_BOX] * len(chunk),
+            halfExtents=[(tile / 2, tile / 2, TILE_DEPTH / 2)] * len(chunk),
+            visualFramePositions=chunk,
+            physicsClientId=client,
+        )
         tiles = p.createMultiBody(0, -1, vis, physicsClientId=client)
-        p.changeVisualShape(tiles, -1, rgbaColor=colors[1], specularColor=(0, 0, 0),
-                            physicsClientId=client)
+        p.changeVisualShape(
+            tiles, -1, rgbaColor=colors[1], specularColor=(0, 0, 0), physicsClientId=client
+        )
     return floor

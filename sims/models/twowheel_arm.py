@@ -101,12 +101,24 @@ def _shapes(client: int, frame: Vec3, items: list[dict]) -> tuple[int, int]:
         positions.append(sub(it["at"], frame))
         orns.append(it.get("orn", (0.0, 0.0, 0.0, 1.0)))
         colors.append(it.get("color", (0.8, 0.8, 0.8, 1.0)))
-    col = p.createCollisionShapeArray(kinds, radii=radii, halfExtents=extents, lengths=lengths,
-                                      collisionFramePositions=positions,
-                                      collisionFrameOrientations=orns, physicsClientId=client)
-    vis = p.createVisualShapeArray(kinds, radii=radii, halfExtents=extents, lengths=lengths,
-                                   visualFramePositions=positions,
-                                   visualFrameOrientations=orns, physicsClientId=client)
+    col = p.createCollisionShapeArray(
+        kinds,
+        radii=radii,
+        halfExtents=extents,
+        lengths=lengths,
+        collisionFramePositions=positions,
+        collisionFrameOrientations=orns,
+        physicsClientId=client,
+    )
+    vis = p.createVisualShapeArray(
+        kinds,
+        radii=radii,
+        halfExtents=extents,
+        lengths=lengths,
+        visualFramePositions=positions,
+        visualFrameOrientations=orns,
+        physicsClientId=client,
+    )
     return col, vis
 
 
@@ -123,8 +135,15 @@ def build(client: int, seed: int = 0, floor_size: float = 5.0) -> SceneModel:
     axis = sub(TAIL_END, TAIL_START)
     tail_orn = quat_rotating((0.0, 0.0, 1.0), axis)
     for centre, radius, length in _tail_segments():
-        body_parts.append({"type": p.GEOM_CAPSULE, "at": centre, "radius": radius,
-                           "length": length, "orn": tail_orn})
+        body_parts.append(
+            {
+                "type": p.GEOM_CAPSULE,
+                "at": centre,
+                "radius": radius,
+                "length": length,
+                "orn": tail_orn,
+            }
+        )
     body_col, body_vis = _shapes(client, BODY_FRAME, body_parts)
 
     wheel_orn = quat_rotating((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
@@ -134,35 +153,132 @@ def build(client: int, seed: int = 0, floor_size: float = 5.0) -> SceneModel:
     plate_y = 0.0193 / 2 + 0.0017  # side plates flank the 19.3 mm wide servo box
     fore_mid = midpoint(ELBOW, WRIST)
     links = [  # name, parent index (0 = base), joint position, joint type, axis, mass, com, parts
-        ("LeftWheel", 0, WHEEL_CENTRES["Left"], p.JOINT_REVOLUTE, (0, 1, 0), WHEEL_MASS,
-         WHEEL_CENTRES["Left"], [{"type": p.GEOM_CYLINDER, "at": WHEEL_CENTRES["Left"],
-                                  "radius": WHEEL_RADIUS, "length": WHEEL_WIDTH, "orn": wheel_orn}]),
-        ("RightWheel", 0, WHEEL_CENTRES["Right"], p.JOINT_REVOLUTE, (0, 1, 0), WHEEL_MASS,
-         WHEEL_CENTRES["Right"], [{"type": p.GEOM_CYLINDER, "at": WHEEL_CENTRES["Right"],
-                                   "radius": WHEEL_RADIUS, "length": WHEEL_WIDTH, "orn": wheel_orn}]),
-        ("ArmRespondable", 0, SHOULDER, p.JOINT_REVOLUTE, (1, 0, 0), ARM_MASS,
-         midpoint(SHOULDER, ELBOW), [
-             {"type": p.GEOM_BOX, "at": midpoint(SHOULDER, ELBOW), "half": (0.0203, 0.00965, 0.01665)},
-             {"type": p.GEOM_BOX, "at": (ELBOW[0] - 0.008, plate_y, ELBOW[2]), "half": (0.0182, 0.0017, 0.00895)},
-             {"type": p.GEOM_BOX, "at": (ELBOW[0] - 0.008, -plate_y, ELBOW[2]), "half": (0.0182, 0.0017, 0.00895)},
-         ]),
-        ("ForearmRespondable", 3, ELBOW, p.JOINT_REVOLUTE, (0, 1, 0), FOREARM_MASS,
-         midpoint(ELBOW, WRIST), [
-             {"type": p.GEOM_BOX, "at": _along(ELBOW, WRIST, 0.3), "half": (0.0203, 0.00965, 0.01665), "orn": forearm_orn},
-             {"type": p.GEOM_BOX, "at": (fore_mid[0], plate_y, fore_mid[2]), "half": (0.0335, 0.0017, 0.00895), "orn": forearm_orn},
-             {"type": p.GEOM_BOX, "at": (fore_mid[0], -plate_y, fore_mid[2]), "half": (0.0335, 0.0017, 0.00895), "orn": forearm_orn},
-         ]),
-        ("HandRespondable", 4, WRIST, p.JOINT_REVOLUTE, (0, 1, 0), HAND_MASS,
-         _along(WRIST, FOOT, 0.55), [
-             {"type": p.GEOM_BOX, "at": _along(WRIST, FOOT, 0.45), "half": (0.006, 0.00965, hand_len * 0.45), "orn": hand_orn},
-             {"type": p.GEOM_SPHERE, "at": FOOT, "radius": FOOT_RADIUS},
-         ]),
+        (
+            "LeftWheel",
+            0,
+            WHEEL_CENTRES["Left"],
+            p.JOINT_REVOLUTE,
+            (0, 1, 0),
+            WHEEL_MASS,
+            WHEEL_CENTRES["Left"],
+            [
+                {
+                    "type": p.GEOM_CYLINDER,
+                    "at": WHEEL_CENTRES["Left"],
+                    "radius": WHEEL_RADIUS,
+                    "length": WHEEL_WIDTH,
+                    "orn": wheel_orn,
+                }
+            ],
+        ),
+        (
+            "RightWheel",
+            0,
+            WHEEL_CENTRES["Right"],
+            p.JOINT_REVOLUTE,
+            (0, 1, 0),
+            WHEEL_MASS,
+            WHEEL_CENTRES["Right"],
+            [
+                {
+                    "type": p.GEOM_CYLINDER,
+                    "at": WHEEL_CENTRES["Right"],
+                    "radius": WHEEL_RADIUS,
+                    "length": WHEEL_WIDTH,
+                    "orn": wheel_orn,
+                }
+            ],
+        ),
+        (
+            "ArmRespondable",
+            0,
+            SHOULDER,
+            p.JOINT_REVOLUTE,
+            (1, 0, 0),
+            ARM_MASS,
+            midpoint(SHOULDER, ELBOW),
+            [
+                {
+                    "type": p.GEOM_BOX,
+                    "at": midpoint(SHOULDER, ELBOW),
+                    "half": (0.0203, 0.00965, 0.01665),
+                },
+                {
+                    "type": p.GEOM_BOX,
+                    "at": (ELBOW[0] - 0.008, plate_y, ELBOW[2]),
+                    "half": (0.0182, 0.0017, 0.00895),
+                },
+                {
+                    "type": p.GEOM_BOX,
+                    "at": (ELBOW[0] - 0.008, -plate_y, ELBOW[2]),
+                    "half": (0.0182, 0.0017, 0.00895),
+                },
+            ],
+        ),
+        (
+            "ForearmRespondable",
+            3,
+            ELBOW,
+            p.JOINT_REVOLUTE,
+            (0, 1, 0),
+            FOREARM_MASS,
+            midpoint(ELBOW, WRIST),
+            [
+                {
+                    "type": p.GEOM_BOX,
+                    "at": _along(ELBOW, WRIST, 0.3),
+                    "half": (0.0203, 0.00965, 0.01665),
+                    "orn": forearm_orn,
+                },
+                {
+                    "type": p.GEOM_BOX,
+                    "at": (fore_mid[0], plate_y, fore_mid[2]),
+                    "half": (0.0335, 0.0017, 0.00895),
+                    "orn": forearm_orn,
+                },
+                {
+                    "type": p.GEOM_BOX,
+                    "at": (fore_mid[0], -plate_y, fore_mid[2]),
+                    "half": (0.0335, 0.0017, 0.00895),
+                    "orn": forearm_orn,
+                },
+            ],
+        ),
+        (
+            "HandRespondable",
+            4,
+            WRIST,
+            p.JOINT_REVOLUTE,
+            (0, 1, 0),
+            HAND_MASS,
+            _along(WRIST, FOOT, 0.55),
+            [
+                {
+                    "type": p.GEOM_BOX,
+                    "at": _along(WRIST, FOOT, 0.45),
+                    "half": (0.006, 0.00965, hand_len * 0.45),
+                    "orn": hand_orn,
+                },
+                {"type": p.GEOM_SPHERE, "at": FOOT, "radius": FOOT_RADIUS},
+            ],
+        ),
     ]
     frames = [BODY_FRAME] + [link[2] for link in links]
-    kw: dict[str, list] = {k: [] for k in (
-        "linkMasses", "linkCollisionShapeIndices", "linkVisualShapeIndices", "linkPositions",
-        "linkOrientations", "linkInertialFramePositions", "linkInertialFrameOrientations",
-        "linkParentIndices", "linkJointTypes", "linkJointAxis")}
+    kw: dict[str, list] = {
+        k: []
+        for k in (
+            "linkMasses",
+            "linkCollisionShapeIndices",
+            "linkVisualShapeIndices",
+            "linkPositions",
+            "linkOrientations",
+            "linkInertialFramePositions",
+            "linkInertialFrameOrientations",
+            "linkParentIndices",
+            "linkJointTypes",
+            "linkJointAxis",
+        )
+    }
     for _name, parent, joint_at, jtype, jaxis, mass, com, parts in links:
         col, vis = _shapes(client, joint_at, parts)
         kw["linkMasses"].append(mass)
@@ -176,28 +292,62 @@ def build(client: int, seed: int = 0, floor_size: float = 5.0) -> SceneModel:
         kw["linkJointTypes"].append(jtype)
         kw["linkJointAxis"].append(jaxis)
     robot = p.createMultiBody(
-        baseMass=BODY_MASS, baseCollisionShapeIndex=body_col, baseVisualShapeIndex=body_vis,
-        basePosition=BODY_FRAME, baseInertialFramePosition=sub(_body_com(), BODY_FRAME),
-        flags=SELF_COLLISION_FLAGS, physicsClientId=client, **kw)
+        baseMass=BODY_MASS,
+        baseCollisionShapeIndex=body_col,
+        baseVisualShapeIndex=body_vis,
+        basePosition=BODY_FRAME,
+        baseInertialFramePosition=sub(_body_com(), BODY_FRAME),
+        flags=SELF_COLLISION_FLAGS,
+        physicsClientId=client,
+        **kw,
+    )
     _colour(client, robot)
     for link in range(-1, len(links)):
         p.changeDynamics(robot, link, lateralFriction=0.8, physicsClientId=client)
     p.changeDynamics(robot, -1, lateralFriction=0.4, physicsClientId=client)  # the dragging tail
     for wheel in (0, 1):
-        p.changeDynamics(robot, wheel, lateralFriction=1.0, rollingFriction=0.0,
-                         spinningFriction=0.0, physicsClientId=client)
+        p.changeDynamics(
+            robot,
+            wheel,
+            lateralFriction=1.0,
+            rollingFriction=0.0,
+            spinningFriction=0.0,
+            physicsClientId=client,
+        )
 
     lo, hi = (math.radians(v) for v in LIMITS_DEG)
     joints = [
-        JointRef("LeftWheelJoint", robot, 0, mode="free", max_force=1.0,
-                 friction_torque=WHEEL_FRICTION_TORQUE),
-        JointRef("RightWheelJoint", robot, 1, mode="free", max_force=1.0,
-                 friction_torque=WHEEL_FRICTION_TORQUE),
+        JointRef(
+            "LeftWheelJoint",
+            robot,
+            0,
+            mode="free",
+            max_force=1.0,
+            friction_torque=WHEEL_FRICTION_TORQUE,
+        ),
+        JointRef(
+            "RightWheelJoint",
+            robot,
+            1,
+            mode="free",
+            max_force=1.0,
+            friction_torque=WHEEL_FRICTION_TORQUE,
+        ),
     ]
     for index, name in ((2, "ShoulderMotor"), (3, "ElbowMotor"), (4, "WristMotor")):
-        joints.append(JointRef(name, robot, index, zero=math.radians(SAVED_DEG[name]),
-                               max_force=ARM_MAX_TORQUE, position_gain=ARM_POSITION_GAIN,
-                               max_velocity=ARM_MAX_VELOCITY, lower=lo, upper=hi))
+        joints.append(
+            JointRef(
+                name,
+                robot,
+                index,
+                zero=math.radians(SAVED_DEG[name]),
+                max_force=ARM_MAX_TORQUE,
+                position_gain=ARM_POSITION_GAIN,
+                max_velocity=ARM_MAX_VELOCITY,
+                lower=lo,
+                upper=hi,
+            )
+        )
     hand_offset = sub(_along(WRIST, FOOT, HAND_FRAME_DISTANCE / distance(WRIST, FOOT)), WRIST)
     objects = [
         ObjectRef("2W1A", robot, -1, offset_orn=BODY_FRAME_ORN),
@@ -207,13 +357,24 @@ def build(client: int, seed: int = 0, floor_size: float = 5.0) -> SceneModel:
         ObjectRef("ForearmRespondable", robot, 3, offset_pos=sub(midpoint(ELBOW, WRIST), ELBOW)),
         ObjectRef("HandRespondable", robot, 4, offset_pos=hand_offset),
     ]
-    return SceneModel(robot="2W1A", forward_axis=(0.0, 0.0, 1.0), objects=objects, joints=joints,
-                      camera=CameraSetup(distance=0.55, yaw=35.0, pitch=-28.0, target_z=0.06))
+    return SceneModel(
+        robot="2W1A",
+        forward_axis=(0.0, 0.0, 1.0),
+        objects=objects,
+        joints=joints,
+        camera=CameraSetup(distance=0.55, yaw=35.0, pitch=-28.0, target_z=0.06),
+    )
 
 
 def _colour(client: int, robot: int) -> None:
     """Flat colours per link (the compound shapes share one colour per link)."""
-    colours = {-1: (0.95, 0.55, 0.10, 1), 0: (0.15, 0.15, 0.15, 1), 1: (0.15, 0.15, 0.15, 1),
-               2: (0.20, 0.45, 0.85, 1), 3: (0.25, 0.60, 0.95, 1), 4: (0.85, 0.20, 0.25, 1)}
+    colours = {
+        -1: (0.95, 0.55, 0.10, 1),
+        0: (0.15, 0.15, 0.15, 1),
+        1: (0.15, 0.15, 0.15, 1),
+        2: (0.20, 0.45, 0.85, 1),
+        3: (0.25, 0.60, 0.95, 1),
+        4: (0.85, 0.20, 0.25, 1),
+    }
     for link, rgba in colours.items():
         p.changeVisualShape(robot, link, rgbaColor=rgba, physicsClientId=client)

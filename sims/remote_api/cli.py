@@ -24,33 +24,67 @@ SCENES = ("2w1a", "cart")
 
 def _parser(prog: str) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog=prog, description="Run CoppeliaSim legacy remote API scripts (import sim / vrep) "
-        "unchanged on sitegen's pybullet scenes. No network: addresses are only recorded.")
+        prog=prog,
+        description="Run CoppeliaSim legacy remote API scripts (import sim / vrep) "
+        "unchanged on sitegen's pybullet scenes. No network: addresses are only recorded.",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="run a script", description="Run a script as __main__ with "
-                         "`import sim` resolving to the emulation, on a virtual clock by default.")
+    run = sub.add_parser(
+        "run",
+        help="run a script",
+        description="Run a script as __main__ with "
+        "`import sim` resolving to the emulation, on a virtual clock by default.",
+    )
     run.add_argument("script", help="the Python script to run")
-    run.add_argument("script_args", nargs="*", metavar="ARG",
-                     help="arguments for the script (sys.argv[1:]); put them after --")
-    run.add_argument("--scene", choices=SCENES,
-                     help="scene to load (default: guessed from the object names in the script)")
-    run.add_argument("--server", choices=SERVER_KINDS,
-                     help="remote API server kind: continuous (simulation starts stopped; the "
-                     "script starts it) or temporary (simulation already running). Default: "
-                     "continuous for 2w1a, temporary for cart")
-    run.add_argument("--seed", type=int, default=0,
-                     help="seed for the scene and for Python's random in the script (default 0; "
-                     "random.seed() without an argument reuses it)")
-    run.add_argument("--after", type=float, default=0.0, metavar="SECONDS",
-                     help="keep the world running this long after the script ends")
-    run.add_argument("--realtime", action="store_true",
-                     help="pace by the wall clock instead of virtual time")
-    run.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT, metavar="S",
-                     help=f"stop the script after S seconds of script time or of wall time "
-                     f"(default {DEFAULT_TIMEOUT:g})")
-    run.add_argument("--record", metavar="OUT.webm",
-                     help="also render a clip: OUT.webm plus OUT.png (poster), OUT.csv, OUT.json "
-                     "and OUT.svg (path), like the gallery's")
+    run.add_argument(
+        "script_args",
+        nargs="*",
+        metavar="ARG",
+        help="arguments for the script (sys.argv[1:]); put them after --",
+    )
+    run.add_argument(
+        "--scene",
+        choices=SCENES,
+        help="scene to load (default: guessed from the object names in the script)",
+    )
+    run.add_argument(
+        "--server",
+        choices=SERVER_KINDS,
+        help="remote API server kind: continuous (simulation starts stopped; the "
+        "script starts it) or temporary (simulation already running). Default: "
+        "continuous for 2w1a, temporary for cart",
+    )
+    run.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        help="seed for the scene and for Python's random in the script (default 0; "
+        "random.seed() without an argument reuses it)",
+    )
+    run.add_argument(
+        "--after",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="keep the world running this long after the script ends",
+    )
+    run.add_argument(
+        "--realtime", action="store_true", help="pace by the wall clock instead of virtual time"
+    )
+    run.add_argument(
+        "--timeout",
+        type=float,
+        default=DEFAULT_TIMEOUT,
+        metavar="S",
+        help=f"stop the script after S seconds of script time or of wall time "
+        f"(default {DEFAULT_TIMEOUT:g})",
+    )
+    run.add_argument(
+        "--record",
+        metavar="OUT.webm",
+        help="also render a clip: OUT.webm plus OUT.png (poster), OUT.csv, OUT.json "
+        "and OUT.svg (path), like the gallery's",
+    )
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
     run.add_argument("-q", "--quiet", action="store_true", help="no summary line")
@@ -97,12 +131,22 @@ def _run(args: argparse.Namespace) -> int:
         if not Path(args.script).is_file():
             print(f"error: {args.script}: no such script file", file=sys.stderr)
             return 2
-        print(f"error: {args.script}: cannot tell the scene from the script; "
-              f"pass --scene {'|'.join(SCENES)}", file=sys.stderr)
+        print(
+            f"error: {args.script}: cannot tell the scene from the script; "
+            f"pass --scene {'|'.join(SCENES)}",
+            file=sys.stderr,
+        )
         return 2
-    result = run_script(args.script, scene, seed=args.seed, server=args.server,
-                        realtime=args.realtime, after=args.after, timeout=args.timeout,
-                        argv=args.script_args)
+    result = run_script(
+        args.script,
+        scene,
+        seed=args.seed,
+        server=args.server,
+        realtime=args.realtime,
+        after=args.after,
+        timeout=args.timeout,
+        argv=args.script_args,
+    )
     sys.stdout.flush()
     if result.message and result.exit_code != 0 and not result.message_printed:
         print(f"error: {result.message}", file=sys.stderr)
@@ -137,15 +181,28 @@ def record_clip(args: argparse.Namespace, scene: str, seconds: float | None) -> 
     out = Path(args.record)
     stem = out.with_suffix("") if out.suffix == ".webm" else out
     params = {"scene": scene, "after": args.after, "server": args.server, "timeout": args.timeout}
-    spec = ClipSpec(name=stem.name, scenario=str(Path(args.script).resolve()), kind="script",
-                    width=int(width), height=int(height or 0), fps=args.fps,
-                    seconds=None if seconds is None else round(seconds + MARGIN, 3),
-                    seed=args.seed, params=params)
+    spec = ClipSpec(
+        name=stem.name,
+        scenario=str(Path(args.script).resolve()),
+        kind="script",
+        width=int(width),
+        height=int(height or 0),
+        fps=args.fps,
+        seconds=None if seconds is None else round(seconds + MARGIN, 3),
+        seed=args.seed,
+        params=params,
+    )
     suffix = {"video": ".webm", "poster": ".png", "csv": ".csv", "json": ".json", "plot": ".svg"}
     stem.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="remote-api-clip-") as tmp:
-        render_job({"spec": asdict(spec), "target": TARGET,
-                    "out_dir": tmp, "time_limit": max(args.timeout, 60.0) * 4})
+        render_job(
+            {
+                "spec": asdict(spec),
+                "target": TARGET,
+                "out_dir": tmp,
+                "time_limit": max(args.timeout, 60.0) * 4,
+            }
+        )
         written = []
         for kind, name in FILES.items():
             target = stem.parent / (stem.name + suffix[kind])

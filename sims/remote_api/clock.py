@@ -122,8 +122,15 @@ def patch_time(clock: Clock, thread_id: int | None = None) -> Iterator[None]:
     mono_epoch, perf_epoch = real_monotonic(), real_perf_counter()
     saved = {
         name: getattr(_time, name)
-        for name in ("time", "time_ns", "monotonic", "monotonic_ns", "perf_counter",
-                     "perf_counter_ns", "sleep")
+        for name in (
+            "time",
+            "time_ns",
+            "monotonic",
+            "monotonic_ns",
+            "perf_counter",
+            "perf_counter_ns",
+            "sleep",
+        )
     }
 
     def mine() -> bool:
@@ -160,9 +167,13 @@ def patch_time(clock: Clock, thread_id: int | None = None) -> Iterator[None]:
         clock.advance(seconds)
 
     patched = {
-        "time": v_time, "time_ns": v_time_ns, "monotonic": v_monotonic,
-        "monotonic_ns": v_monotonic_ns, "perf_counter": v_perf_counter,
-        "perf_counter_ns": v_perf_counter_ns, "sleep": v_sleep,
+        "time": v_time,
+        "time_ns": v_time_ns,
+        "monotonic": v_monotonic,
+        "monotonic_ns": v_monotonic_ns,
+        "perf_counter": v_perf_counter,
+        "perf_counter_ns": v_perf_counter_ns,
+        "sleep": v_sleep,
     }
     for name, fn in patched.items():
         setattr(_time, name, fn)

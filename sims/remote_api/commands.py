@@ -136,7 +136,9 @@ def children(world: Any, handle: int) -> list[int]:
     return [h for h in objects(world, sim_handle_all) if parent(world, h) == handle]
 
 
-def _reference(world: Any, relative_to: int, handle: int | None = None) -> tuple[g.Vec, g.Quat] | None:
+def _reference(
+    world: Any, relative_to: int, handle: int | None = None
+) -> tuple[g.Vec, g.Quat] | None:
     if relative_to == sim_handle_parent and handle is not None:
         relative_to = parent(world, handle)
     if relative_to == WORLD_FRAME:
@@ -167,11 +169,15 @@ def _base_ref(world: Any, handle: int) -> Any:
     n = name(world, handle)
     ref = _objects(world).get(n)
     if ref is None or ref.link != -1:
-        raise CommandError(f"object {n!r} is part of a dynamic chain: only a model's base can be moved")
+        raise CommandError(
+            f"object {n!r} is part of a dynamic chain: only a model's base can be moved"
+        )
     return ref
 
 
-def set_frame(world: Any, handle: int, relative_to: int, pos: g.Vec | None, quat: g.Quat | None) -> None:
+def set_frame(
+    world: Any, handle: int, relative_to: int, pos: g.Vec | None, quat: g.Quat | None
+) -> None:
     """Move a model's base object so that its frame is (pos, quat); None keeps that part."""
     ref = _base_ref(world, handle)
     cur_pos, cur_quat = frame(world, handle)
@@ -201,12 +207,17 @@ def velocity(world: Any, handle: int) -> tuple[g.Vec, g.Vec]:
         lin, ang = p.getBaseVelocity(body, physicsClientId=cid)
         com = p.getBasePositionAndOrientation(body, physicsClientId=cid)[0]
     else:
-        st = p.getLinkState(body, link, computeLinkVelocity=1, computeForwardKinematics=1,
-                            physicsClientId=cid)
+        st = p.getLinkState(
+            body, link, computeLinkVelocity=1, computeForwardKinematics=1, physicsClientId=cid
+        )
         com, lin, ang = st[0], st[6], st[7]
     origin = world.object_pose(n)[0]
     r = (origin[0] - com[0], origin[1] - com[1], origin[2] - com[2])
-    cross = (ang[1] * r[2] - ang[2] * r[1], ang[2] * r[0] - ang[0] * r[2], ang[0] * r[1] - ang[1] * r[0])
+    cross = (
+        ang[1] * r[2] - ang[2] * r[1],
+        ang[2] * r[0] - ang[0] * r[2],
+        ang[0] * r[1] - ang[1] * r[0],
+    )
     return (lin[0] + cross[0], lin[1] + cross[1], lin[2] + cross[2]), tuple(ang)  # type: ignore[return-value]
 
 

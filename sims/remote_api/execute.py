@@ -34,7 +34,11 @@ REMOTE = C.simx_return_remote_error_flag
 LOCAL = C.simx_return_local_error_flag
 INIT = C.simx_return_initialize_error_flag
 
-ONESHOT, BLOCKING, STREAMING = C.simx_opmode_oneshot, C.simx_opmode_blocking, C.simx_opmode_streaming
+ONESHOT, BLOCKING, STREAMING = (
+    C.simx_opmode_oneshot,
+    C.simx_opmode_blocking,
+    C.simx_opmode_streaming,
+)
 BUFFER, DISCONTINUE, REMOVE = C.simx_opmode_buffer, C.simx_opmode_discontinue, C.simx_opmode_remove
 _CANONICAL = {
     C.simx_opmode_oneshot_split: ONESHOT,
@@ -110,8 +114,9 @@ def fetch(client: Client, reply: Reply | None, zero: tuple) -> tuple[int, tuple]
     return reply.code, (reply.values if reply.code == OK else zero)
 
 
-def execute(client_id: Any, opmode: Any, key: tuple, run: Run, zero: tuple,
-            setter: bool = False) -> tuple[int, tuple]:
+def execute(
+    client_id: Any, opmode: Any, key: tuple, run: Run, zero: tuple, setter: bool = False
+) -> tuple[int, tuple]:
     """Run one command the way the legacy client and server would; returns (code, outputs)."""
     found = lookup(client_id)
     if found is None:

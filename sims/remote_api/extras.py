@@ -169,8 +169,9 @@ def simxGetBooleanParameter(clientID, paramIdentifier, operationMode):
 
 
 def simxGetArrayParameter(clientID, paramIdentifier, operationMode):
-    code, value = _parameter(clientID, paramIdentifier, operationMode, "array", _ARRAY_PARAMS,
-                             [0.0, 0.0, 0.0])
+    code, value = _parameter(
+        clientID, paramIdentifier, operationMode, "array", _ARRAY_PARAMS, [0.0, 0.0, 0.0]
+    )
     return code, list(value)
 
 
@@ -180,8 +181,12 @@ def simxPackInts(intList):
 
 
 def simxUnpackInts(intsPackedInString):
-    data = bytes(intsPackedInString, "latin-1") if isinstance(intsPackedInString, str) else bytes(intsPackedInString)
-    return [struct.unpack("<i", data[4 * i:4 * i + 4])[0] for i in range(len(data) // 4)]
+    data = (
+        bytes(intsPackedInString, "latin-1")
+        if isinstance(intsPackedInString, str)
+        else bytes(intsPackedInString)
+    )
+    return [struct.unpack("<i", data[4 * i : 4 * i + 4])[0] for i in range(len(data) // 4)]
 
 
 def simxPackFloats(floatList):
@@ -189,8 +194,12 @@ def simxPackFloats(floatList):
 
 
 def simxUnpackFloats(floatsPackedInString):
-    data = bytes(floatsPackedInString, "latin-1") if isinstance(floatsPackedInString, str) else bytes(floatsPackedInString)
-    return [struct.unpack("<f", data[4 * i:4 * i + 4])[0] for i in range(len(data) // 4)]
+    data = (
+        bytes(floatsPackedInString, "latin-1")
+        if isinstance(floatsPackedInString, str)
+        else bytes(floatsPackedInString)
+    )
+    return [struct.unpack("<f", data[4 * i : 4 * i + 4])[0] for i in range(len(data) // 4)]
 
 
 def simxReleaseBuffer(buffer):
@@ -206,36 +215,73 @@ _warned: set[str] = set()
 
 #: Functions of sim.py this emulation does not provide, with the outputs they would return.
 UNSUPPORTED: dict[str, tuple] = {
-    "simxGetJointMatrix": ([0.0] * 12,), "simxSetSphericalJointMatrix": (),
-    "simxSetJointMaxForce": (), "simxSetJointForce": (),
-    "simxReadForceSensor": (0, [0.0] * 3, [0.0] * 3), "simxBreakForceSensor": (),
-    "simxReadVisionSensor": (False, []), "simxGetVisionSensorImage": ([], []),
-    "simxSetVisionSensorImage": (), "simxGetVisionSensorDepthBuffer": ([], []),
-    "simxLoadModel": (0,), "simxLoadUI": ([],), "simxLoadScene": (), "simxCloseScene": (),
-    "simxGetUIHandle": (0,), "simxGetUISlider": (0,), "simxSetUISlider": (),
-    "simxGetUIEventButton": (0, [0, 0]), "simxGetUIButtonProperty": (0,),
-    "simxSetUIButtonProperty": (), "simxSetUIButtonLabel": (), "simxRemoveUI": (),
-    "simxAuxiliaryConsoleOpen": (0,), "simxAuxiliaryConsoleClose": (),
-    "simxAuxiliaryConsolePrint": (), "simxAuxiliaryConsoleShow": (),
-    "simxSetObjectParent": (), "simxSetArrayParameter": (), "simxSetBooleanParameter": (),
-    "simxSetIntegerParameter": (), "simxSetFloatingParameter": (), "simxGetStringParameter": ("",),
-    "simxGetCollisionHandle": (0,), "simxGetCollectionHandle": (0,),
-    "simxGetDistanceHandle": (0,), "simxReadCollision": (False,), "simxReadDistance": (0.0,),
-    "simxRemoveObject": (), "simxRemoveModel": (), "simxDisplayDialog": (0, 0),
-    "simxEndDialog": (), "simxGetDialogInput": ("",), "simxGetDialogResult": (0,),
-    "simxCopyPasteObjects": ([],), "simxGetObjectSelection": ([],), "simxSetObjectSelection": (),
-    "simxGetObjectFloatParameter": (0.0,), "simxSetObjectFloatParameter": (),
-    "simxGetObjectIntParameter": (0,), "simxSetObjectIntParameter": (),
-    "simxGetModelProperty": (0,), "simxSetModelProperty": (), "simxTransferFile": (),
-    "simxEraseFile": (), "simxCreateDummy": (0,), "simxQuery": (bytearray(),),
+    "simxGetJointMatrix": ([0.0] * 12,),
+    "simxSetSphericalJointMatrix": (),
+    "simxSetJointMaxForce": (),
+    "simxSetJointForce": (),
+    "simxReadForceSensor": (0, [0.0] * 3, [0.0] * 3),
+    "simxBreakForceSensor": (),
+    "simxReadVisionSensor": (False, []),
+    "simxGetVisionSensorImage": ([], []),
+    "simxSetVisionSensorImage": (),
+    "simxGetVisionSensorDepthBuffer": ([], []),
+    "simxLoadModel": (0,),
+    "simxLoadUI": ([],),
+    "simxLoadScene": (),
+    "simxCloseScene": (),
+    "simxGetUIHandle": (0,),
+    "simxGetUISlider": (0,),
+    "simxSetUISlider": (),
+    "simxGetUIEventButton": (0, [0, 0]),
+    "simxGetUIButtonProperty": (0,),
+    "simxSetUIButtonProperty": (),
+    "simxSetUIButtonLabel": (),
+    "simxRemoveUI": (),
+    "simxAuxiliaryConsoleOpen": (0,),
+    "simxAuxiliaryConsoleClose": (),
+    "simxAuxiliaryConsolePrint": (),
+    "simxAuxiliaryConsoleShow": (),
+    "simxSetObjectParent": (),
+    "simxSetArrayParameter": (),
+    "simxSetBooleanParameter": (),
+    "simxSetIntegerParameter": (),
+    "simxSetFloatingParameter": (),
+    "simxGetStringParameter": ("",),
+    "simxGetCollisionHandle": (0,),
+    "simxGetCollectionHandle": (0,),
+    "simxGetDistanceHandle": (0,),
+    "simxReadCollision": (False,),
+    "simxReadDistance": (0.0,),
+    "simxRemoveObject": (),
+    "simxRemoveModel": (),
+    "simxDisplayDialog": (0, 0),
+    "simxEndDialog": (),
+    "simxGetDialogInput": ("",),
+    "simxGetDialogResult": (0,),
+    "simxCopyPasteObjects": ([],),
+    "simxGetObjectSelection": ([],),
+    "simxSetObjectSelection": (),
+    "simxGetObjectFloatParameter": (0.0,),
+    "simxSetObjectFloatParameter": (),
+    "simxGetObjectIntParameter": (0,),
+    "simxSetObjectIntParameter": (),
+    "simxGetModelProperty": (0,),
+    "simxSetModelProperty": (),
+    "simxTransferFile": (),
+    "simxEraseFile": (),
+    "simxCreateDummy": (0,),
+    "simxQuery": (bytearray(),),
     "simxCallScriptFunction": ([], [], [], bytearray()),
 }
 
 
 def _report_unsupported(name: str, known: bool) -> None:
     """One message per function and run (per process when no run is configured)."""
-    what = ("is not supported by the sitegen pybullet emulation" if known
-            else "is not a legacy remote API function known to the sitegen emulation")
+    what = (
+        "is not supported by the sitegen pybullet emulation"
+        if known
+        else "is not a legacy remote API function known to the sitegen emulation"
+    )
     text = f"{name} {what}: it returns simx_return_local_error_flag (32)"
     session = current_session()
     if session is not None:
@@ -268,5 +314,6 @@ def module_getattr(name: str):
     """For the ``sim`` module's ``__getattr__``: unknown ``simx*`` names become stubs."""
     if name.startswith("simx") and not name.startswith("simx_"):
         return make_stub(name, known=False)
-    raise AttributeError(f"module 'sim' has no attribute {name!r} "
-                         "(not provided by the sitegen remote API emulation)")
+    raise AttributeError(
+        f"module 'sim' has no attribute {name!r} (not provided by the sitegen remote API emulation)"
+    )

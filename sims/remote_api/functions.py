@@ -26,8 +26,14 @@ _Z3 = (0.0, 0.0, 0.0)
 
 
 # --- connection --------------------------------------------------------------------------------
-def simxStart(connectionAddress, connectionPort, waitUntilConnected, doNotReconnectOnceDisconnected,
-              timeOutInMs, commThreadCycleInMs):
+def simxStart(
+    connectionAddress,
+    connectionPort,
+    waitUntilConnected,
+    doNotReconnectOnceDisconnected,
+    timeOutInMs,
+    commThreadCycleInMs,
+):
     """Open a connection slot (no socket is opened: the address is only recorded).
 
     Returns the first free client ID (0 for the first), or -1 when no scene is configured."""
@@ -40,13 +46,21 @@ def simxStart(connectionAddress, connectionPort, waitUntilConnected, doNotReconn
         else:
             import sys
 
-            print("[sim] simxStart: no scene is configured: run the script with "
-                  "`sitegen remote-api run SCRIPT --scene 2w1a|cart` "
-                  "(or set SITEGEN_REMOTE_API_SCENE)", file=sys.stderr)
+            print(
+                "[sim] simxStart: no scene is configured: run the script with "
+                "`sitegen remote-api run SCRIPT --scene 2w1a|cart` "
+                "(or set SITEGEN_REMOTE_API_SCENE)",
+                file=sys.stderr,
+            )
         return -1
-    cid = session.connect(address, port, wait=bool(waitUntilConnected),
-                          no_reconnect=bool(doNotReconnectOnceDisconnected),
-                          timeout_ms=timeOutInMs, cycle_ms=commThreadCycleInMs)
+    cid = session.connect(
+        address,
+        port,
+        wait=bool(waitUntilConnected),
+        no_reconnect=bool(doNotReconnectOnceDisconnected),
+        timeout_ms=timeOutInMs,
+        cycle_ms=commThreadCycleInMs,
+    )
     if cid >= 0:
         session.simulator.call(blocking=True)
     return cid
@@ -88,8 +102,11 @@ def simxSynchronous(clientID, enable):
     sim = session.simulator
     sim.call(blocking=True)
     if not sim.can_control():
-        session.warn_once("temporary-sync", "simxSynchronous: a temporary remote API server "
-                          "(started by a child script) has no synchronous mode (remote error)")
+        session.warn_once(
+            "temporary-sync",
+            "simxSynchronous: a temporary remote API server "
+            "(started by a child script) has no synchronous mode (remote error)",
+        )
         return REMOTE
     sim.sync()
     sim.synchronous = bool(enable)
@@ -161,10 +178,13 @@ def _control(clientID, operationMode, what: str):
         session, _ = found
         sim = session.simulator
         if not sim.can_control():
-            session.warn_once("temporary-control", f"simx{what.capitalize()}Simulation: this "
-                              "scene's remote API server is a temporary one (started by a child "
-                              "script): it cannot start, pause or stop simulations (remote error). "
-                              "Run with --server continuous to allow it.")
+            session.warn_once(
+                "temporary-control",
+                f"simx{what.capitalize()}Simulation: this "
+                "scene's remote API server is a temporary one (started by a child "
+                "script): it cannot start, pause or stop simulations (remote error). "
+                "Run with --server continuous to allow it.",
+            )
             raise cmd.CommandError(f"a temporary server cannot {what} the simulation")
         getattr(sim, what)()
         return ()
@@ -226,8 +246,9 @@ def simxGetObjectHandle(clientID, objectName, operationMode):
 
 def simxGetObjects(clientID, objectType, operationMode):
     kind = int_arg(objectType, 2)
-    code, out = execute(clientID, operationMode, ("objects", kind),
-                        lambda w: (cmd.objects(w, kind),), ([],))
+    code, out = execute(
+        clientID, operationMode, ("objects", kind), lambda w: (cmd.objects(w, kind),), ([],)
+    )
     return code, list(out[0])
 
 
@@ -250,25 +271,40 @@ def simxGetObjectChild(clientID, parentObjectHandle, childIndex, operationMode):
 
 def _getter3(clientID, handle, relative, operationMode, what: str, fn, n: int = 3):
     h, rel = int_arg(handle, 2), int_arg(relative, 3)
-    code, out = execute(clientID, operationMode, (what, h, rel),
-                        lambda w: (f32s(fn(w, h, rel)),), ([0.0] * n,))
+    code, out = execute(
+        clientID, operationMode, (what, h, rel), lambda w: (f32s(fn(w, h, rel)),), ([0.0] * n,)
+    )
     return code, list(out[0])
 
 
 def simxGetObjectPosition(clientID, objectHandle, relativeToObjectHandle, operationMode):
-    return _getter3(clientID, objectHandle, relativeToObjectHandle, operationMode, "position",
-                    cmd.position)
+    return _getter3(
+        clientID, objectHandle, relativeToObjectHandle, operationMode, "position", cmd.position
+    )
 
 
 def simxGetObjectOrientation(clientID, objectHandle, relativeToObjectHandle, operationMode):
     """Euler angles (alpha, beta, gamma) in radians: R = Rx(alpha) Ry(beta) Rz(gamma)."""
-    return _getter3(clientID, objectHandle, relativeToObjectHandle, operationMode, "orientation",
-                    cmd.orientation)
+    return _getter3(
+        clientID,
+        objectHandle,
+        relativeToObjectHandle,
+        operationMode,
+        "orientation",
+        cmd.orientation,
+    )
 
 
 def simxGetObjectQuaternion(clientID, objectHandle, relativeToObjectHandle, operationMode):
-    return _getter3(clientID, objectHandle, relativeToObjectHandle, operationMode, "quaternion",
-                    cmd.quaternion, 4)
+    return _getter3(
+        clientID,
+        objectHandle,
+        relativeToObjectHandle,
+        operationMode,
+        "quaternion",
+        cmd.quaternion,
+        4,
+    )
 
 
 def _setter_frame(clientID, objectHandle, relative, values, n, operationMode, what, convert):
@@ -288,22 +324,48 @@ def _setter_frame(clientID, objectHandle, relative, values, n, operationMode, wh
 
 def simxSetObjectPosition(clientID, objectHandle, relativeToObjectHandle, position, operationMode):
     """Move a model's base object (other objects: remote error)."""
-    return _setter_frame(clientID, objectHandle, relativeToObjectHandle, position, 3, operationMode,
-                         "set_position", lambda v: (tuple(v), None))
+    return _setter_frame(
+        clientID,
+        objectHandle,
+        relativeToObjectHandle,
+        position,
+        3,
+        operationMode,
+        "set_position",
+        lambda v: (tuple(v), None),
+    )
 
 
-def simxSetObjectOrientation(clientID, objectHandle, relativeToObjectHandle, eulerAngles,
-                             operationMode):
+def simxSetObjectOrientation(
+    clientID, objectHandle, relativeToObjectHandle, eulerAngles, operationMode
+):
     from .geometry import euler_to_quat
 
-    return _setter_frame(clientID, objectHandle, relativeToObjectHandle, eulerAngles, 3,
-                         operationMode, "set_orientation", lambda v: (None, euler_to_quat(tuple(v))))
+    return _setter_frame(
+        clientID,
+        objectHandle,
+        relativeToObjectHandle,
+        eulerAngles,
+        3,
+        operationMode,
+        "set_orientation",
+        lambda v: (None, euler_to_quat(tuple(v))),
+    )
 
 
-def simxSetObjectQuaternion(clientID, objectHandle, relativeToObjectHandle, quaternion,
-                            operationMode):
-    return _setter_frame(clientID, objectHandle, relativeToObjectHandle, quaternion, 4,
-                         operationMode, "set_quaternion", lambda v: (None, tuple(v)))
+def simxSetObjectQuaternion(
+    clientID, objectHandle, relativeToObjectHandle, quaternion, operationMode
+):
+    return _setter_frame(
+        clientID,
+        objectHandle,
+        relativeToObjectHandle,
+        quaternion,
+        4,
+        operationMode,
+        "set_quaternion",
+        lambda v: (None, tuple(v)),
+    )
 
 
 def simxGetObjectVelocity(clientID, objectHandle, operationMode):
@@ -347,22 +409,37 @@ simxJointGetForce = simxGetJointForce
 
 
 def simxGetJointMaxForce(clientID, jointHandle, operationMode):
-    return _joint_float(clientID, jointHandle, operationMode, "joint_max_force", cmd.joint_max_force)
+    return _joint_float(
+        clientID, jointHandle, operationMode, "joint_max_force", cmd.joint_max_force
+    )
 
 
 def simxSetJointTargetPosition(clientID, jointHandle, targetPosition, operationMode):
-    return _joint_set(clientID, jointHandle, targetPosition, operationMode, "joint_target_position",
-                      cmd.set_joint_target_position)
+    return _joint_set(
+        clientID,
+        jointHandle,
+        targetPosition,
+        operationMode,
+        "joint_target_position",
+        cmd.set_joint_target_position,
+    )
 
 
 def simxSetJointTargetVelocity(clientID, jointHandle, targetVelocity, operationMode):
-    return _joint_set(clientID, jointHandle, targetVelocity, operationMode, "joint_target_velocity",
-                      cmd.set_joint_target_velocity)
+    return _joint_set(
+        clientID,
+        jointHandle,
+        targetVelocity,
+        operationMode,
+        "joint_target_velocity",
+        cmd.set_joint_target_velocity,
+    )
 
 
 def simxSetJointPosition(clientID, jointHandle, position, operationMode):
-    return _joint_set(clientID, jointHandle, position, operationMode, "joint_position_set",
-                      cmd.set_joint_position)
+    return _joint_set(
+        clientID, jointHandle, position, operationMode, "joint_position_set", cmd.set_joint_position
+    )
 
 
 # --- sensors -------------------------------------------------------------------------------------
@@ -375,8 +452,9 @@ def simxReadProximitySensor(clientID, sensorHandle, operationMode):
         detected, point, obj, normal = cmd.read_proximity_sensor(world, h)
         return detected, f32s(point), obj, f32s(normal)
 
-    code, out = execute(clientID, operationMode, ("proximity", h), run,
-                        (False, list(_Z3), 0, list(_Z3)))
+    code, out = execute(
+        clientID, operationMode, ("proximity", h), run, (False, list(_Z3), 0, list(_Z3))
+    )
     return code, bool(out[0]), list(out[1]), out[2], list(out[3])
 
 
@@ -389,4 +467,3 @@ def simxGetObjectGroupData(clientID, objectType, dataType, operationMode):
 
     code, out = execute(clientID, operationMode, ("group", kind, data), run, ([], [], [], []))
     return code, list(out[0]), list(out[1]), list(out[2]), list(out[3])
-

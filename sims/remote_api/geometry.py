@@ -63,7 +63,14 @@ def matrix_to_euler(m: Mat) -> Vec:
 
 def euler_to_matrix(e: Vec) -> Mat:
     a, b, g = e
-    ca, sa, cb, sb, cg, sg = math.cos(a), math.sin(a), math.cos(b), math.sin(b), math.cos(g), math.sin(g)
+    ca, sa, cb, sb, cg, sg = (
+        math.cos(a),
+        math.sin(a),
+        math.cos(b),
+        math.sin(b),
+        math.cos(g),
+        math.sin(g),
+    )
     return (
         (cb * cg, -cb * sg, sb),
         (ca * sg + sa * sb * cg, ca * cg - sa * sb * sg, -sa * cb),

@@ -37,8 +37,10 @@ SCENE_NAMES = {
     "2w1a": ("2W1A", "ShoulderMotor", "ElbowMotor", "WristMotor", "LeftWheelJoint"),
     "cart": ("left_m", "right_m"),
 }
-JOINTS = {"2w1a": (("ShoulderMotor", "ElbowMotor", "WristMotor"), "angle"),
-          "cart": (("left_m", "right_m"), "speed")}
+JOINTS = {
+    "2w1a": (("ShoulderMotor", "ElbowMotor", "WristMotor"), "angle"),
+    "cart": (("left_m", "right_m"), "speed"),
+}
 PARAMS = ("scene", "after", "server", "timeout")
 
 
@@ -51,8 +53,11 @@ def register() -> None:
 
 def guess_scene(text: str) -> str | None:
     """The one scene whose object names the script mentions (in quotes), else None."""
-    found = [scene for scene, names in SCENE_NAMES.items()
-             if any(re.search("['\"]" + re.escape(n) + "['\"#]", text) for n in names)]
+    found = [
+        scene
+        for scene, names in SCENE_NAMES.items()
+        if any(re.search("['\"]" + re.escape(n) + "['\"#]", text) for n in names)
+    ]
     return found[0] if len(found) == 1 else None
 
 
@@ -63,14 +68,18 @@ def package_files() -> list[str]:
 def resolve_params(script: Path, params: dict[str, Any]) -> dict[str, Any]:
     unknown = sorted(set(params) - set(PARAMS))
     if unknown:
-        raise ValueError(f"script clips have no param {', '.join(unknown)} "
-                         f"(known: {', '.join(PARAMS)})")
+        raise ValueError(
+            f"script clips have no param {', '.join(unknown)} (known: {', '.join(PARAMS)})"
+        )
     scene = params.get("scene") or guess_scene(script.read_text(encoding="utf-8", errors="replace"))
     if not scene:
         raise ValueError(f"{script.name}: cannot tell the scene from the script; set params.scene")
-    return {"scene": str(scene), "after": float(params.get("after", 0.0) or 0.0),
-            "server": params.get("server"),
-            "timeout": float(params.get("timeout", DEFAULT_TIMEOUT) or DEFAULT_TIMEOUT)}
+    return {
+        "scene": str(scene),
+        "after": float(params.get("after", 0.0) or 0.0),
+        "server": params.get("server"),
+        "timeout": float(params.get("timeout", DEFAULT_TIMEOUT) or DEFAULT_TIMEOUT),
+    }
 
 
 def script_plan(spec: Any):
@@ -86,31 +95,62 @@ def script_plan(spec: Any):
         duration = float(spec.seconds)
     else:
         digest = hashlib.sha256(script.read_bytes()).hexdigest()
-        duration = measure(str(script), digest, params["scene"], seed, params["after"],
-                           params["server"], params["timeout"])
+        duration = measure(
+            str(script),
+            digest,
+            params["scene"],
+            seed,
+            params["after"],
+            params["server"],
+            params["timeout"],
+        )
     joints, quantity = JOINTS.get(params["scene"], ((), "angle"))
 
     def drive(world: Any, record: Any) -> None:
         drive_script(world, record, script, params, seed)
 
     return RecordingPlan(
-        scene=params["scene"], seed=seed, duration=duration,
-        description=(f"Course script {script.name}, run unchanged through the legacy remote API "
-                     f"emulation (scene {params['scene']}, seed {seed})"),
-        source_path=str(script), params=params, hash_files=[str(script), *package_files()],
-        drive=drive, joints=joints, joint_quantity=quantity, extra_columns=("simulation",),
+        scene=params["scene"],
+        seed=seed,
+        duration=duration,
+        description=(
+            f"Course script {script.name}, run unchanged through the legacy remote API "
+            f"emulation (scene {params['scene']}, seed {seed})"
+        ),
+        source_path=str(script),
+        params=params,
+        hash_files=[str(script), *package_files()],
+        drive=drive,
+        joints=joints,
+        joint_quantity=quantity,
+        extra_columns=("simulation",),
     )
 
 
 @lru_cache(maxsize=64)
-def measure(script: str, digest: str, scene: str, seed: int, after: float, server: str | None,
-            timeout: float) -> float:
+def measure(
+    script: str,
+    digest: str,
+    scene: str,
+    seed: int,
+    after: float,
+    server: str | None,
+    timeout: float,
+) -> float:
     """Simulated seconds a silent run of the script takes (plus a small margin)."""
     del digest  # part of the memo key only
     sink = io.StringIO()
     with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
-        result = run_script(script, scene, seed=seed, server=server, after=after,
-                            timeout=timeout, trace=False, stderr=sink)
+        result = run_script(
+            script,
+            scene,
+            seed=seed,
+            server=server,
+            after=after,
+            timeout=timeout,
+            trace=False,
+            stderr=sink,
+        )
     if not result.ok:
         raise RuntimeError(result.message or f"{Path(script).name} exited with {result.exit_code}")
     return max(result.sim_time, 0.0) + MARGIN
@@ -146,9 +186,18 @@ def drive_script(world: Any, record: Any, script: Path, params: dict[str, Any], 
 
     out, err = _Lines(record, "stdout"), _Lines(record, "stderr")
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        result = run_script(script, params["scene"], seed=seed, server=params["server"],
-                            after=params["after"], timeout=params["timeout"], world=world,
-                            on_pass=on_pass, trace=False, stderr=err)
+        result = run_script(
+            script,
+            params["scene"],
+            seed=seed,
+            server=params["server"],
+            after=params["after"],
+            timeout=params["timeout"],
+            world=world,
+            on_pass=on_pass,
+            trace=False,
+            stderr=err,
+        )
     out.flush_rest()
     err.flush_rest()
     record.note("script ended", exit_code=result.exit_code, simulated=round(result.sim_time, 3))

@@ -72,10 +72,12 @@ class RunResult:
     def summary(self) -> str:
         speed = self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
         addresses = ", ".join(sorted({f"{c.address}:{c.port}" for c in self.connections})) or "none"
-        return (f"{self.script}: exit {self.exit_code}; simulated {self.sim_time:.2f} s in "
-                f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
-                f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
-                f"contacted): {addresses}")
+        return (
+            f"{self.script}: exit {self.exit_code}; simulated {self.sim_time:.2f} s in "
+            f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
+            f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
+            f"contacted): {addresses}"
+        )
 
 
 class _Watchdog:
@@ -89,8 +91,9 @@ class _Watchdog:
         self._thread: threading.Thread | None = None
 
     def _raise(self, exc: Any) -> None:
-        ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(self.thread_id),
-                                                   ctypes.py_object(exc) if exc else None)
+        ctypes.pythonapi.PyThreadState_SetAsyncExc(
+            ctypes.c_ulong(self.thread_id), ctypes.py_object(exc) if exc else None
+        )
 
     def _watch(self) -> None:
         if self._done.wait(self.limit):
@@ -102,8 +105,9 @@ class _Watchdog:
 
     def __enter__(self) -> _Watchdog:
         if self.limit is not None and math.isfinite(self.limit):
-            self._thread = threading.Thread(target=self._watch, name="remote-api-watchdog",
-                                            daemon=True)
+            self._thread = threading.Thread(
+                target=self._watch, name="remote-api-watchdog", daemon=True
+            )
             self._thread.start()
         return self
 
@@ -164,8 +168,10 @@ def no_network(thread_id: int) -> Iterator[None]:
 
         def method(self, *args: Any, **kwargs: Any):
             if threading.get_ident() == thread_id:
-                raise OSError(f"socket.{name}: network access is disabled while a script runs "
-                              "under the sitegen remote API emulation")
+                raise OSError(
+                    f"socket.{name}: network access is disabled while a script runs "
+                    "under the sitegen remote API emulation"
+                )
             return original(self, *args, **kwargs)
 
         return method
@@ -221,8 +227,15 @@ def run_script(
         return result
     clock: Clock = WallClock(timeout) if realtime else VirtualClock(timeout)
     factory = (lambda *a, **k: world) if world is not None else None
-    session = Session(scene, seed=seed or 0, server=server, clock=clock,
-                      scene_options=scene_options, world_factory=factory, stderr=err)
+    session = Session(
+        scene,
+        seed=seed or 0,
+        server=server,
+        clock=clock,
+        scene_options=scene_options,
+        world_factory=factory,
+        stderr=err,
+    )
     sim = session.simulator
     if trace:
         sim.pass_observers.append(lambda s: result.samples.append(_sample(s)))
@@ -256,8 +269,9 @@ def run_script(
     return result
 
 
-def _execute(path: Path, label: str, clock: Clock, timeout: float | None, result: RunResult,
-             err: Any) -> None:
+def _execute(
+    path: Path, label: str, clock: Clock, timeout: float | None, result: RunResult, err: Any
+) -> None:
     try:
         with _Watchdog(timeout, threading.get_ident()):
             runpy.run_path(str(path), run_name="__main__")
@@ -274,8 +288,10 @@ def _execute(path: Path, label: str, clock: Clock, timeout: float | None, result
         kind = "simulated" if clock.timed_out else "wall-clock"
         result.timed_out = True
         result.exit_code = 124
-        result.message = (f"{_where(label, _script_line(exc, path))}: stopped: the script ran past "
-                          f"its time limit of {timeout:g} s ({kind} time)")
+        result.message = (
+            f"{_where(label, _script_line(exc, path))}: stopped: the script ran past "
+            f"its time limit of {timeout:g} s ({kind} time)"
+        )
     except KeyboardInterrupt as exc:
         result.exit_code = 130
         result.message = f"{_where(label, _script_line(exc, path))}: interrupted"
@@ -284,8 +300,9 @@ def _execute(path: Path, label: str, clock: Clock, timeout: float | None, result
             raise
         text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
         result.exit_code = 1
-        result.message = (f"{_where(label, _script_line(exc, path))}: {type(exc).__name__}"
-                          + (f": {text}" if text else ""))
+        result.message = f"{_where(label, _script_line(exc, path))}: {type(exc).__name__}" + (
+            f": {text}" if text else ""
+        )
 
 
 def _is_recording_stop(exc: BaseException) -> bool:
@@ -298,4 +315,3 @@ def _sample(sim: Any) -> Sample:
     robot = world.model.robot
     (x, y, z), _ = world.object_pose(robot)
     return Sample(sim.clock.now(), world.time, sim.starts, x, y, z, world.heading(robot))
-

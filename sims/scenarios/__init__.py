@@ -45,8 +45,10 @@ class Scenario:
         """Defaults updated by ``overrides``; an unknown key is an error (catches typos)."""
         unknown = sorted(set(overrides or {}) - set(self.params))
         if unknown:
-            raise ValueError(f"scenario {self.name!r} has no param {', '.join(unknown)} "
-                             f"(known: {', '.join(sorted(self.params)) or 'none'})")
+            raise ValueError(
+                f"scenario {self.name!r} has no param {', '.join(unknown)} "
+                f"(known: {', '.join(sorted(self.params)) or 'none'})"
+            )
         return {**self.params, **(overrides or {})}
 
     def duration_for(self, params: dict[str, Any]) -> float:
@@ -89,10 +91,16 @@ def get_scenario(name: str) -> Scenario:
     return scenarios[name]
 
 
-def run_scenario(name: str, *, seed: int | None = None, params: dict | None = None,
-                 seconds: float | None = None, fps: float = 20.0,
-                 on_frame: Callable[[World], None] | None = None,
-                 time_limit: float | None = None) -> Recording:
+def run_scenario(
+    name: str,
+    *,
+    seed: int | None = None,
+    params: dict | None = None,
+    seconds: float | None = None,
+    fps: float = 20.0,
+    on_frame: Callable[[World], None] | None = None,
+    time_limit: float | None = None,
+) -> Recording:
     """Run a scenario headless in a fresh World and return its samples (no rendering)."""
     from sims.sources import plan_scenario
 
@@ -101,5 +109,11 @@ def run_scenario(name: str, *, seed: int | None = None, params: dict | None = No
     return record(plan, fps=fps, seconds=seconds, on_frame=on_frame, deadline=deadline)[0]
 
 
-__all__ = ["Scenario", "list_scenarios", "get_scenario", "run_scenario", "drive",
-           "RecordingTimeout"]
+__all__ = [
+    "Scenario",
+    "list_scenarios",
+    "get_scenario",
+    "run_scenario",
+    "drive",
+    "RecordingTimeout",
+]

@@ -30,7 +30,9 @@ def run(world: World, params: dict, record: Recorder) -> None:
             record.note("clear ahead")
         elif not turning and nearest < params["stop_distance"]:
             turning = 1 if left_room >= right_room else -1
-            record.note(f"obstacle at {nearest:.2f} m: turning {'left' if turning > 0 else 'right'}")
+            record.note(
+                f"obstacle at {nearest:.2f} m: turning {'left' if turning > 0 else 'right'}"
+            )
         if turning:
             left, right = -turn * turning, turn * turning
         else:
@@ -45,14 +47,21 @@ def run(world: World, params: dict, record: Recorder) -> None:
 SCENARIO = Scenario(
     name="cart-avoid",
     description="Cart roaming a walled arena with obstacles, steering by its front proximity "
-                "sensor; it never touches anything.",
+    "sensor; it never touches anything.",
     scene="cart",
     run=run,
     duration=lambda p: p["seconds"],
     seed=7,
-    params={"cruise": 6.0, "turn": 3.0, "steer": 0.6, "stop_distance": 0.25,
-            "clear_distance": 0.4, "sensor_range": 0.5, "control_period": 0.05,
-            "seconds": 40.0},
+    params={
+        "cruise": 6.0,
+        "turn": 3.0,
+        "steer": 0.6,
+        "stop_distance": 0.25,
+        "clear_distance": 0.4,
+        "sensor_range": 0.5,
+        "control_period": 0.05,
+        "seconds": 40.0,
+    },
     joints=("left_m", "right_m"),
     joint_quantity="speed",
     extra_columns=("proximity_m",),

@@ -13,12 +13,21 @@ from sims.world import World
 
 MAX_SPEED, STEP = 2.0, 0.5
 SESSION = [
-    [0.5, "up"], [1.0, "up"], [1.5, "up"], [2.0, "up"],   # full speed ahead
-    [7.0, "left"], [9.0, "right"],                          # a left curve
-    [12.0, "down"], [12.5, "down"],                         # slow down
-    [14.0, "right"], [14.5, "right"], [18.0, "left"], [18.5, "left"],  # a right curve
-    [21.0, "space"],                                        # stop
-    [22.0, "down"], [22.5, "down"],                         # back up a little
+    [0.5, "up"],
+    [1.0, "up"],
+    [1.5, "up"],
+    [2.0, "up"],  # full speed ahead
+    [7.0, "left"],
+    [9.0, "right"],  # a left curve
+    [12.0, "down"],
+    [12.5, "down"],  # slow down
+    [14.0, "right"],
+    [14.5, "right"],
+    [18.0, "left"],
+    [18.5, "left"],  # a right curve
+    [21.0, "space"],  # stop
+    [22.0, "down"],
+    [22.5, "down"],  # back up a little
     [25.0, "space"],
 ]
 
@@ -55,7 +64,7 @@ def run(world: World, params: dict, record: Recorder) -> None:
 SCENARIO = Scenario(
     name="cart-keyboard",
     description="Cart driven by a scripted arrow-key session (steps of 0.5 rad/s, max 2 rad/s; "
-                "up/down speed, left/right turn, space stops).",
+    "up/down speed, left/right turn, space stops).",
     scene="cart",
     run=run,
     duration=lambda p: p["seconds"],

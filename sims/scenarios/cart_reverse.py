@@ -20,8 +20,7 @@ def run(world: World, params: dict, record: Recorder) -> None:
 
 SCENARIO = Scenario(
     name="cart-reverse",
-    description="Cart, course task 2-2: both wheel motors at -1 rad/s, the cart reverses "
-                "straight.",
+    description="Cart, course task 2-2: both wheel motors at -1 rad/s, the cart reverses straight.",
     scene="cart",
     run=run,
     duration=lambda p: p["seconds"],

@@ -29,19 +29,24 @@ def run(world: World, params: dict, record: Recorder) -> None:
             targets = {"ShoulderMotor": shoulder, "ElbowMotor": elbow, "WristMotor": wrist}
             for joint, deg in targets.items():
                 world.set_joint_target_position(joint, math.radians(deg))
-            record.note(f"run {run_index + 1} move {move + 1}: targets {shoulder} {elbow} {wrist}",
-                        targets_deg=[shoulder, elbow, wrist])
+            record.note(
+                f"run {run_index + 1} move {move + 1}: targets {shoulder} {elbow} {wrist}",
+                targets_deg=[shoulder, elbow, wrist],
+            )
             world.advance(params["move_seconds"])
             reached = [round(math.degrees(world.joint_position(j)), 2) for j in ARM]
             (x, y, _), _ = world.object_pose("2W1A")
-            record.note(f"run {run_index + 1} move {move + 1}: reached", reached_deg=reached,
-                        position=[round(x, 4), round(y, 4)])
+            record.note(
+                f"run {run_index + 1} move {move + 1}: reached",
+                reached_deg=reached,
+                position=[round(x, 4), round(y, 4)],
+            )
 
 
 SCENARIO = Scenario(
     name="2w1a-random",
     description="2W1A robot: 3 runs of 5 random arm moves (0-300 deg, 5 s each); the hand "
-                "pushes on the floor and the body rolls and drags its tail.",
+    "pushes on the floor and the body rolls and drags its tail.",
     scene="2w1a",
     run=run,
     duration=lambda p: p["runs"] * p["moves"] * p["move_seconds"],

@@ -24,10 +24,13 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         "copying referenced images and downloads.",
     )
     cms.add_argument("path", metavar="PATH", type=Path, help="content.htm or cmsimde site folder")
-    cms.add_argument("--dest", type=Path, default=Path("content"),
-                     help="folder to create (default: content); must be empty unless --force")
-    cms.add_argument("--force", action="store_true",
-                     help="replace DEST even if it is not empty")
+    cms.add_argument(
+        "--dest",
+        type=Path,
+        default=Path("content"),
+        help="folder to create (default: content); must be empty unless --force",
+    )
+    cms.add_argument("--force", action="store_true", help="replace DEST even if it is not empty")
     return parser
 
 

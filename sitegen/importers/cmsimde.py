@@ -45,9 +45,9 @@ class PageReport:
     """One produced page and what could not be carried over into it."""
 
     title: str
-    path: str            # posix path relative to DEST
-    level: int           # 1-3 as in cmsimde; 0 for the front page made from text before H1
-    line: int            # line of the heading in content.htm
+    path: str  # posix path relative to DEST
+    level: int  # 1-3 as in cmsimde; 0 for the front page made from text before H1
+    line: int  # line of the heading in content.htm
     warnings: list[str] = field(default_factory=list)
 
 
@@ -59,7 +59,7 @@ class ImportReport:
     dest: Path
     pages: list[PageReport] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
-    files_copied: list[str] = field(default_factory=list)      # DEST-relative paths
+    files_copied: list[str] = field(default_factory=list)  # DEST-relative paths
     images_extracted: list[str] = field(default_factory=list)  # DEST-relative paths
 
 
@@ -77,11 +77,12 @@ class _Page:
 @dataclass
 class _Site:
     content_file: Path
-    root: Path              # where config/ lives (or the file's folder for a bare content.htm)
+    root: Path  # where config/ lives (or the file's folder for a bare content.htm)
     asset_bases: list[Path]  # folders that may hold images/, downloads/, static/
 
 
 # -- locating and reading ---------------------------------------------------------------------
+
 
 def _locate(path: Path) -> _Site:
     if path.is_dir():
@@ -125,6 +126,7 @@ def _site_title(site: _Site) -> str:
 
 
 # -- splitting into pages ----------------------------------------------------------------------
+
 
 def _is_page_heading(node: Node) -> bool:
     return isinstance(node, Element) and node.tag in PAGE_HEADINGS and bool(node.text().strip())
@@ -172,7 +174,9 @@ def _split(root: Element, notes: list[ParseIssue]) -> tuple[list[Node], list[_Pa
             assert isinstance(node, Element)
             pages.append(_Page(node.text().strip(), int(node.tag[1]), node.line, []))
         elif isinstance(node, Element) and node.tag in PAGE_HEADINGS:
-            notes.append(ParseIssue(node.line, f"empty <{node.tag}> is not a page (cmsimde drops it)"))
+            notes.append(
+                ParseIssue(node.line, f"empty <{node.tag}> is not a page (cmsimde drops it)")
+            )
             (pages[-1].nodes if pages else preamble).append(node)
         else:
             (pages[-1].nodes if pages else preamble).append(node)
@@ -226,6 +230,7 @@ def _walk(pages: list[_Page]):
 
 # -- output ------------------------------------------------------------------------------------
 
+
 def _page_text(title: str, weight: int | None, body: str) -> bytes:
     head = ["---", f"title: {mdtext.yaml_string(title)}"]
     if weight is not None:
@@ -239,7 +244,14 @@ def _visible(nodes: list[Node]) -> bool:
     for node in nodes:
         if isinstance(node, Text) and node.data.replace("\xa0", " ").strip():
             return True
-        if isinstance(node, Element) and node.tag not in ("script", "style", "br", "p", "div", "span"):
+        if isinstance(node, Element) and node.tag not in (
+            "script",
+            "style",
+            "br",
+            "p",
+            "div",
+            "span",
+        ):
             return True
         if isinstance(node, Element) and _visible(node.children):
             return True
@@ -260,12 +272,18 @@ def _check_dest(dest: Path, site: _Site, force: bool) -> None:
     guarded = [site.content_file] + [b / d for b in site.asset_bases for d in Assets.KINDS]
     for path in guarded:
         if path.exists() and _inside(path, dest):
-            raise CmsimdeImportError(dest, 0, f"destination contains the site being imported ({path})")
+            raise CmsimdeImportError(
+                dest, 0, f"destination contains the site being imported ({path})"
+            )
     if dest.exists() and any(dest.iterdir()):
         if not force:
-            raise CmsimdeImportError(dest, 0, "destination is not empty (use --force to replace it)")
+            raise CmsimdeImportError(
+                dest, 0, "destination is not empty (use --force to replace it)"
+            )
         if (dest / ".git").exists():
-            raise CmsimdeImportError(dest, 0, "refusing to replace a folder that holds a .git repository")
+            raise CmsimdeImportError(
+                dest, 0, "refusing to replace a folder that holds a .git repository"
+            )
 
 
 def _write(dest: Path, files: dict[str, bytes], copies: dict[str, Path]) -> None:
@@ -295,6 +313,7 @@ def _write(dest: Path, files: dict[str, bytes], copies: dict[str, Path]) -> None
 
 # -- the import ---------------------------------------------------------------------------------
 
+
 def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportReport:
     """Import the cmsimde site at ``path`` (a content.htm or a site folder) into ``dest``.
 
@@ -308,11 +327,18 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     root, issues = parse_html(source)
     preamble, flat = _split(root, issues)
     if not flat:
-        raise CmsimdeImportError(site.content_file, 1, "no <h1>, <h2> or <h3> with text: "
-                                 "cmsimde needs at least one heading to make a page")
+        raise CmsimdeImportError(
+            site.content_file,
+            1,
+            "no <h1>, <h2> or <h3> with text: cmsimde needs at least one heading to make a page",
+        )
     if flat[0].level != 1:  # cmsimde rewrites a first <h2>/<h3> into <h1> when it loads the file
-        issues.append(ParseIssue(flat[0].line, f"first heading is <h{flat[0].level}>: "
-                                 "made a top-level page, as cmsimde does"))
+        issues.append(
+            ParseIssue(
+                flat[0].line,
+                f"first heading is <h{flat[0].level}>: made a top-level page, as cmsimde does",
+            )
+        )
         flat[0].level = 1
     issues.sort(key=lambda issue: issue.line)
     markup = _heading_markup(root)
@@ -333,8 +359,15 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
         notes.extend(per_page.get(id(page), []))
         if page.line in markup:
             tags = ", ".join(f"<{t}>" for t in markup[page.line])
-            notes.append((page.line, f"markup inside the heading not carried over ({tags}); title kept as text"))
-        notes.sort(key=lambda note: note[0] or 10**9)  # located notes in source order, then summaries
+            notes.append(
+                (
+                    page.line,
+                    f"markup inside the heading not carried over ({tags}); title kept as text",
+                )
+            )
+        notes.sort(
+            key=lambda note: note[0] or 10**9
+        )  # located notes in source order, then summaries
         if page is front:
             notes.insert(0, (0, "text before the first heading (cmsimde never shows it) kept here"))
         page_report = PageReport(page.title, page.rel.as_posix(), page.level, page.line)
@@ -342,10 +375,16 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
             page_report.warnings.append(f"{message} (line {line})" if line else message)
         report.warnings.extend(f"{page.title}: {w}" for w in page_report.warnings)
         report.pages.append(page_report)
-        files[page.rel.as_posix()] = _page_text(page.title, None if page is front else page.weight, body)
-    if front is None and preamble:  # only invisible things (scripts, comments) before the first heading
+        files[page.rel.as_posix()] = _page_text(
+            page.title, None if page is front else page.weight, body
+        )
+    if (
+        front is None and preamble
+    ):  # only invisible things (scripts, comments) before the first heading
         _, notes = _convert(_Page("", 0, 1, preamble), links, assets)
-        site_warnings.extend(f"before the first heading: {m}" + (f" (line {n})" if n else "") for n, m in notes)
+        site_warnings.extend(
+            f"before the first heading: {m}" + (f" (line {n})" if n else "") for n, m in notes
+        )
     site_warnings.extend(assets.site_warnings())
     report.warnings.extend(f"{site.content_file.name}: {w}" for w in site_warnings)
     files.update(assets.extracted)
@@ -370,7 +409,9 @@ def _convert(page: _Page, links: LinkResolver, assets: Assets) -> tuple[str, lis
     )
     body = Converter(hooks).convert(page.nodes)
     if missing:
-        notes.append((0, "missing file(s), linked but not copied: " + ", ".join(dict.fromkeys(missing))))
+        notes.append(
+            (0, "missing file(s), linked but not copied: " + ", ".join(dict.fromkeys(missing)))
+        )
     return body, notes
 
 

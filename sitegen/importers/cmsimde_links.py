@@ -35,9 +35,17 @@ _ASSET = re.compile(r"^(?:\.{1,2}/)*/?(images|downloads|static)/(.+)$")
 _GET_PAGE = re.compile(r"^/get_page/([^/]+)(?:/\d+)?/?$")
 _STATIC_PAGE = re.compile(r"^(?:\.{1,2}/)*/?(?:content/)?([^/]+)\.html?$")
 _MIME_EXT = {
-    "image/png": "png", "image/jpeg": "jpg", "image/jpg": "jpg", "image/pjpeg": "jpg",
-    "image/gif": "gif", "image/svg+xml": "svg", "image/webp": "webp", "image/bmp": "bmp",
-    "image/x-icon": "ico", "image/vnd.microsoft.icon": "ico", "image/avif": "avif",
+    "image/png": "png",
+    "image/jpeg": "jpg",
+    "image/jpg": "jpg",
+    "image/pjpeg": "jpg",
+    "image/gif": "gif",
+    "image/svg+xml": "svg",
+    "image/webp": "webp",
+    "image/bmp": "bmp",
+    "image/x-icon": "ico",
+    "image/vnd.microsoft.icon": "ico",
+    "image/avif": "avif",
     "image/tiff": "tif",
 }
 
@@ -54,7 +62,7 @@ class Assets:
 
     def __init__(self, bases: list[Path]) -> None:
         self.bases = bases
-        self.copies: dict[str, Path] = {}      # DEST-relative path -> source file
+        self.copies: dict[str, Path] = {}  # DEST-relative path -> source file
         self.extracted: dict[str, bytes] = {}  # DEST-relative path -> decoded image
         self.missing: set[str] = set()
 
@@ -73,8 +81,15 @@ class Assets:
                         return entry
         return None
 
-    def link(self, page_rel: PurePosixPath, kind: str, sub: str, warn: Warn, line: int,
-             missing: list[str]) -> str | None:
+    def link(
+        self,
+        page_rel: PurePosixPath,
+        kind: str,
+        sub: str,
+        warn: Warn,
+        line: int,
+        missing: list[str],
+    ) -> str | None:
         """Plan the copy of ``/kind/sub`` and return its path relative to the page."""
         sub = posixpath.normpath(sub)
         if sub.startswith("../") or sub in ("..", ".") or sub.startswith("/"):
@@ -82,7 +97,11 @@ class Assets:
             return None
         found = self.find(kind, sub)
         if found is not None:
-            sub = posixpath.join(posixpath.dirname(sub), found.name) if posixpath.dirname(sub) else found.name
+            sub = (
+                posixpath.join(posixpath.dirname(sub), found.name)
+                if posixpath.dirname(sub)
+                else found.name
+            )
             self.copies[f"{kind}/{sub}"] = found
         else:
             self.missing.add(f"{kind}/{sub}")
@@ -117,8 +136,10 @@ class Assets:
         out = []
         found_any = any((b / k).is_dir() for b in self.bases for k in self.KINDS)
         if self.missing and not found_any:
-            out.append(f"no images/, downloads/ or static/ folder beside config/ or under content/: "
-                       f"{len(self.missing)} referenced file(s) not copied")
+            out.append(
+                f"no images/, downloads/ or static/ folder beside config/ or under content/: "
+                f"{len(self.missing)} referenced file(s) not copied"
+            )
         unused = []
         for base in self.bases:
             for kind in self.KINDS:
@@ -130,7 +151,9 @@ class Assets:
                             unused.append(rel)
         if unused:
             shown = ", ".join(unused[:5]) + (", ..." if len(unused) > 5 else "")
-            out.append(f"{len(unused)} file(s) in the site not referenced by any page, not copied: {shown}")
+            out.append(
+                f"{len(unused)} file(s) in the site not referenced by any page, not copied: {shown}"
+            )
         return out
 
 
@@ -160,7 +183,9 @@ class LinkResolver:
         parts = urlsplit(raw)
         if parts.scheme or parts.netloc:
             return raw
-        suffix = (f"?{parts.query}" if parts.query else "") + (f"#{parts.fragment}" if parts.fragment else "")
+        suffix = (f"?{parts.query}" if parts.query else "") + (
+            f"#{parts.fragment}" if parts.fragment else ""
+        )
         path = unquote(parts.path)
         m = _ASSET.match(path)
         if m:
@@ -180,7 +205,9 @@ class LinkResolver:
 
     def _page_for(self, path: str, query: str) -> tuple[PageLike | None, str | None]:
         """(page, None) if ``path`` names a page; (None, title) if it names an unknown one."""
-        if path in ("/", "", "/get_page", "/get_page/") or re.fullmatch(r"(?:\.{1,2}/)*/?(?:content/)?index\.html?", path):
+        if path in ("/", "", "/get_page", "/get_page/") or re.fullmatch(
+            r"(?:\.{1,2}/)*/?(?:content/)?index\.html?", path
+        ):
             heading = parse_qs(query).get("heading")
             if heading:
                 return self.by_title.get(heading[0].strip()), heading[0]

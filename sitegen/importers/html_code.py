@@ -15,8 +15,23 @@ from sitegen.importers import mdtext
 from sitegen.importers.htmltree import VOID, Comment, Element, Node, Text
 
 #: Formatting a highlighter may leave inside <pre>; any other tag there was typed code.
-CODE_FORMATTING = {"span", "code", "b", "strong", "i", "em", "a", "font", "u", "mark", "sub",
-                   "sup", "s", "small", "big"}
+CODE_FORMATTING = {
+    "span",
+    "code",
+    "b",
+    "strong",
+    "i",
+    "em",
+    "a",
+    "font",
+    "u",
+    "mark",
+    "sub",
+    "sup",
+    "s",
+    "small",
+    "big",
+}
 _NOT_LANGUAGE = {"syntaxhighlighter", "nogutter", "collapsed", "ie"}
 
 

@@ -19,34 +19,125 @@ HEADINGS = {"h1", "h2", "h3", "h4", "h5", "h6"}
 #: Dropped everywhere except inside code, with a warning.
 DROP = {"script", "style", "link", "meta", "head", "title", "base"}
 #: Kept verbatim as HTML: Markdown has no equivalent.
-RAW = {"iframe", "video", "audio", "object", "embed", "canvas", "svg", "math", "map",
-       "button", "input", "select", "textarea", "form", "picture", "dl", "details",
-       "fieldset", "noscript", "progress", "meter", "output"}
+RAW = {
+    "iframe",
+    "video",
+    "audio",
+    "object",
+    "embed",
+    "canvas",
+    "svg",
+    "math",
+    "map",
+    "button",
+    "input",
+    "select",
+    "textarea",
+    "form",
+    "picture",
+    "dl",
+    "details",
+    "fieldset",
+    "noscript",
+    "progress",
+    "meter",
+    "output",
+}
 #: Blocks whose children are simply rendered in their place.
-TRANSPARENT = {"div", "section", "article", "aside", "header", "footer", "main", "nav",
-               "center", "figure", "figcaption", "html", "body", "address", "hgroup", "li",
-               "tr", "td", "th", "thead", "tbody", "tfoot", "caption", "menu", "dir"}
-BLOCKS = HEADINGS | TRANSPARENT | {"p", "pre", "ul", "ol", "table", "blockquote", "hr"} | {
-    "dl", "details", "fieldset", "form", "noscript"}
+TRANSPARENT = {
+    "div",
+    "section",
+    "article",
+    "aside",
+    "header",
+    "footer",
+    "main",
+    "nav",
+    "center",
+    "figure",
+    "figcaption",
+    "html",
+    "body",
+    "address",
+    "hgroup",
+    "li",
+    "tr",
+    "td",
+    "th",
+    "thead",
+    "tbody",
+    "tfoot",
+    "caption",
+    "menu",
+    "dir",
+}
+BLOCKS = (
+    HEADINGS
+    | TRANSPARENT
+    | {"p", "pre", "ul", "ol", "table", "blockquote", "hr"}
+    | {"dl", "details", "fieldset", "form", "noscript"}
+)
 #: Inline tags kept as HTML around Markdown content (none is "block-level" to Markdown).
-WRAP = {"u": "u", "ins": "ins", "mark": "mark", "sub": "sub", "sup": "sup", "small": "small",
-        "big": "big", "s": "s", "strike": "s", "del": "del", "abbr": "abbr", "q": "q"}
+WRAP = {
+    "u": "u",
+    "ins": "ins",
+    "mark": "mark",
+    "sub": "sub",
+    "sup": "sup",
+    "small": "small",
+    "big": "big",
+    "s": "s",
+    "strike": "s",
+    "del": "del",
+    "abbr": "abbr",
+    "q": "q",
+}
 EMPHASIS = {"strong": "**", "b": "**", "em": "*", "i": "*", "cite": "*", "var": "*", "dfn": "*"}
 CODE = {"code", "kbd", "samp", "tt"}
-SILENT_UNWRAP = {"span", "font", "label", "bdi", "bdo", "data", "time", "nobr", "legend",
-                 "optgroup", "option", "summary", "rb", "rt", "rp", "ruby", "colgroup", "col",
-                 "area", "source", "track", "param", "wbr", "center"}
-KEEP_SPAN_STYLE = {"color", "background-color", "background", "font-weight", "font-style",
-                   "text-decoration", "font-size"}
+SILENT_UNWRAP = {
+    "span",
+    "font",
+    "label",
+    "bdi",
+    "bdo",
+    "data",
+    "time",
+    "nobr",
+    "legend",
+    "optgroup",
+    "option",
+    "summary",
+    "rb",
+    "rt",
+    "rp",
+    "ruby",
+    "colgroup",
+    "col",
+    "area",
+    "source",
+    "track",
+    "param",
+    "wbr",
+    "center",
+}
+KEEP_SPAN_STYLE = {
+    "color",
+    "background-color",
+    "background",
+    "font-weight",
+    "font-style",
+    "text-decoration",
+    "font-size",
+}
 
 
 @dataclass
 class Hooks:
     """What the converter asks its caller: URL rewriting, data: images, warnings."""
 
-    url: Callable[[str, Element, str], str]          # (url, element, attribute) -> url
+    url: Callable[[str, Element, str], str]  # (url, element, attribute) -> url
     data_image: Callable[[str, Element], str | None]  # data: URI -> new src, or None
-    warn: Callable[[str, int], None]                  # (message, source line)
+    warn: Callable[[str, int], None]  # (message, source line)
 
 
 def _style(value: str) -> list[tuple[str, str]]:
@@ -166,7 +257,7 @@ class InlineConverter:
         if not core or not re.sub(r"<br />|&nbsp;|\s", "", core):
             return inner
         lead = inner[: len(inner) - len(inner.lstrip(" \n"))]
-        trail = inner[len(inner.rstrip(" \n")):]
+        trail = inner[len(inner.rstrip(" \n")) :]
         return f"{lead}{marker}{core}{marker}{trail}"
 
     def _span(self, el: Element, single_line: bool) -> str:
@@ -201,8 +292,13 @@ class InlineConverter:
         if self._in_table:
             url = url.replace("|", "%7C")
         plain = mdtext.collapse_ws(el.text()).strip()
-        if (plain == href == url and len(el.children) == 1 and isinstance(el.children[0], Text)
-                and re.fullmatch(r"https?://[^\s<>|]+", href) and not el.attrs.get("title")):
+        if (
+            plain == href == url
+            and len(el.children) == 1
+            and isinstance(el.children[0], Text)
+            and re.fullmatch(r"https?://[^\s<>|]+", href)
+            and not el.attrs.get("title")
+        ):
             return f"{prefix}<{href}>"
         core = inner.strip(" ")
         lead = " " if inner.startswith(" ") else ""
@@ -215,13 +311,21 @@ class InlineConverter:
         if not src:
             self.hooks.warn("<img> without src dropped", el.line)
             return ""
-        new = self.hooks.data_image(src, el) if src.startswith("data:") else self.hooks.url(src, el, "src")
+        new = (
+            self.hooks.data_image(src, el)
+            if src.startswith("data:")
+            else self.hooks.url(src, el, "src")
+        )
         if new is None:
             return ""
         alt = el.attrs.get("alt", "")
         title = el.attrs.get("title", "")
-        extra = {k: el.attrs[k] for k in ("width", "height", "style") if el.attrs.get(k, "").strip()}
+        extra = {
+            k: el.attrs[k] for k in ("width", "height", "style") if el.attrs.get(k, "").strip()
+        }
         if extra:
             attrs = {"src": new, "alt": alt, **({"title": title} if title else {}), **extra}
             return to_html(Element("img", attrs))
-        return f"![{mdtext.escape_alt(alt)}]({mdtext.link_destination(new)}{mdtext.link_title(title)})"
+        return (
+            f"![{mdtext.escape_alt(alt)}]({mdtext.link_destination(new)}{mdtext.link_title(title)})"
+        )

@@ -129,14 +129,19 @@ class Converter(InlineConverter):
         if tag == "div" and "syntaxhighlighter" in el.classes():
             found = highlighter_code(el)
             if found is not None:
-                self.hooks.warn("rendered SyntaxHighlighter table turned back into a code block "
-                                "(line numbers dropped)", el.line)
+                self.hooks.warn(
+                    "rendered SyntaxHighlighter table turned back into a code block "
+                    "(line numbers dropped)",
+                    el.line,
+                )
                 return [self._code(found[0], found[1], el.line)]
         if tag == "div" and self._raw_only(el):
             return [self.raw(el)]
         if tag not in TRANSPARENT and tag not in SILENT_UNWRAP:
             if tag == "a" and el.attrs.get("href"):
-                self.hooks.warn(f"link around block content not carried over ({el.attrs['href']})", el.line)
+                self.hooks.warn(
+                    f"link around block content not carried over ({el.attrs['href']})", el.line
+                )
             elif tag in EMPHASIS or tag in WRAP or tag in CODE:
                 self.hooks.warn(f"<{tag}> around block content: formatting dropped", el.line)
             else:
@@ -195,7 +200,9 @@ class Converter(InlineConverter):
                 if isinstance(child, Element) and child.tag in ("ul", "ol") and items:
                     items[-1].append(self.list_block(child))  # a list nested without its <li>
                     continue
-                kids = child.children if isinstance(child, Element) and child.tag == "li" else [child]
+                kids = (
+                    child.children if isinstance(child, Element) and child.tag == "li" else [child]
+                )
                 blocks = self.blocks(kids)
                 if blocks:
                     items.append(blocks)
@@ -247,19 +254,29 @@ class Converter(InlineConverter):
                 rows.append(child)
             elif isinstance(child, Element) or (isinstance(child, Text) and child.data.strip()):
                 return self.raw(el)  # caption, colgroup or stray content
-        grid = [[c for c in tr.children if isinstance(c, Element) and c.tag in ("td", "th")] for tr in rows]
+        grid = [
+            [c for c in tr.children if isinstance(c, Element) and c.tag in ("td", "th")]
+            for tr in rows
+        ]
         grid = [r for r in grid if r]
         if not grid:
             return ""
         for cell in (c for r in grid for c in r):
             spans = cell.attrs.get("rowspan", "1").strip() + cell.attrs.get("colspan", "1").strip()
-            blocky = [n for n in cell.walk() if isinstance(n, Element) and n.tag in BLOCKS and n.tag != "p"]
+            blocky = [
+                n
+                for n in cell.walk()
+                if isinstance(n, Element) and n.tag in BLOCKS and n.tag != "p"
+            ]
             if spans != "11" or blocky or len(cell.find_all("p")) > 1:
                 return self.raw(el)
         width = max(len(r) for r in grid)
         self._in_table = True
         try:
-            text = [[self.inline(self._cell_nodes(c), single_line=True).strip() for c in r] for r in grid]
+            text = [
+                [self.inline(self._cell_nodes(c), single_line=True).strip() for c in r]
+                for r in grid
+            ]
         finally:
             self._in_table = False
         text = [r + [""] * (width - len(r)) for r in text]
@@ -271,4 +288,8 @@ class Converter(InlineConverter):
 
     @staticmethod
     def _cell_nodes(cell: Element) -> list[Node]:
-        return [n for c in cell.children for n in (c.children if isinstance(c, Element) and c.tag == "p" else [c])]
+        return [
+            n
+            for c in cell.children
+            for n in (c.children if isinstance(c, Element) and c.tag == "p" else [c])
+        ]
