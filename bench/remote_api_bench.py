@@ -31,7 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scene", default="2w1a")
     args = parser.parse_args(argv)
 
-    from sims.remote_api import run_script
+    from sims.remote_api.runner import run_script
     from sims.world import World
 
     if not args.script.is_file():
@@ -39,7 +39,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     ratios, sims, walls = [], [], []
     print(
-        f"{'run':>3}  {'simulated s':>11}  {'script clock s':>14}  {'wall s':>7}  {'x real time':>11}"
+        f"{'run':>3}  {'simulated s':>11}  {'script clock s':>14}  "
+        f"{'wall s':>7}  {'x real time':>11}"
     )
     for i in range(args.runs):
         sink = io.StringIO()

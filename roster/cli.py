@@ -2,8 +2,8 @@
 
 Exit codes: 0 fine (warnings allowed), 1 the roster has errors or a file could
 not be read, 2 usage error. Problems are printed one per line as
-`file:line: field: message`, never as a traceback, because the people running
-this are teachers fixing a spreadsheet, not debugging Python.
+`file:line: severity: field: message` (`located.diagnostics`), never as a traceback,
+because the people running this are teachers fixing a spreadsheet, not debugging Python.
 """
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ from typing import TextIO
 from .diff import diff
 from .emit import to_csv, to_html, to_json
 from .load import load_roster
-from .model import Diagnostic, RosterError, RosterResult
+from .model import WHOLE_FILE, Diagnostic, RosterError, RosterResult, printable
+from .parse_tsv import LAYOUTS
 
 EMITTERS: dict[str, Callable[[RosterResult], str]] = {
     "html": to_html,
@@ -45,6 +46,37 @@ def _add_input_options(p: argparse.ArgumentParser) -> None:
         default="cd2021",
         help="members' course repository (default: cd2021)",
     )
+    p.add_argument(
+        "--layout",
+        choices=LAYOUTS,
+        default="auto",
+        help="tab-separated layout: paired (id, account, ...), ids (ids only), "
+        "or auto (detect; the default)",
+    )
+    p.add_argument(
+        "--marks",
+        metavar="WORDS",
+        help="comma-separated mark words beside ids or accounts "
+        "(default: the corrections file's marks, else X)",
+    )
+
+
+def _add_verbosity(p: argparse.ArgumentParser) -> None:
+    """-q/-v as on every sitegen command: quiet drops informational lines, never problems
+    or the data the command prints; verbose adds detail."""
+    group = p.add_mutually_exclusive_group()
+    group.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=-1,
+        default=0,
+        help="print only warnings, errors and the command's data",
+    )
+    group.add_argument(
+        "-v", "--verbose", dest="verbosity", action="store_const", const=1, help="more detail"
+    )
 
 
 def build_parser(prog: str) -> argparse.ArgumentParser:
@@ -55,9 +87,10 @@ def build_parser(prog: str) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     check = sub.add_parser("check", help="show groups, members, corrections, warnings and errors")
     _add_input_options(check)
-    check.add_argument("-v", "--verbose", action="store_true", help="also show info notes")
+    _add_verbosity(check)
     links = sub.add_parser("links", help="print group and member links")
     _add_input_options(links)
+    _add_verbosity(links)
     links.add_argument(
         "--format", choices=sorted(EMITTERS), default="html", help="output format (default: html)"
     )
@@ -66,6 +99,7 @@ def build_parser(prog: str) -> argparse.ArgumentParser:
     )
     changes.add_argument("old", help="older roster file or JSON from 'links --format json'")
     changes.add_argument("new", help="newer roster file or JSON")
+    _add_verbosity(changes)
     return parser
 
 
@@ -73,10 +107,13 @@ def _load(args: argparse.Namespace, file: str | None = None) -> RosterResult:
     corrections = (
         False if getattr(args, "no_corrections", False) else getattr(args, "corrections", None)
     )
+    marks = getattr(args, "marks", None)
     return load_roster(
         file or args.file,
         corrections=corrections,
         course_repo=getattr(args, "course_repo", "cd2021"),
+        layout=getattr(args, "layout", "auto"),
+        marks=[w.strip() for w in marks.split(",") if w.strip()] if marks is not None else None,
     )
 
 
@@ -92,32 +129,52 @@ def _section(out: TextIO, title: str, items: list[Diagnostic]) -> None:
 
 
 def _check(args: argparse.Namespace, out: TextIO) -> int:
+    """Print the roster as read. Every value from the files goes through `printable`, so a
+    roster cannot send escape sequences to the terminal."""
     result = _load(args)
     groups = result.roster.groups
+    p = printable
+    kind = f"{result.format}, {result.layout} layout" if result.layout else result.format
+    if args.verbosity < 0:  # quiet: the problems and the verdict only
+        _section(out, "warnings", result.warnings)
+        _section(out, "errors", result.errors)
+        _verdict(out, result)
+        return 1 if result.errors else 0
     print(
-        f"roster: {result.file} ({result.format}): {_n(len(groups), 'group')}, {_n(len(result.roster.members), 'member')}",
+        f"roster: {p(result.file)} ({kind}): {_n(len(groups), 'group')}, "
+        f"{_n(len(result.roster.members), 'member')}",
         file=out,
     )
-    print(f"corrections: {result.corrections_file or 'none'}", file=out)
+    print(f"corrections: {p(result.corrections_file or 'none')}", file=out)
     for g in groups:
         print(
-            f"{g.name}  (slug {g.slug}, leader {g.leader or '-'}, {_n(len(g.members), 'member')}, line {g.line})",
+            f"{p(g.name)}  (slug {p(g.slug)}, leader {p(g.leader or '-')}, "
+            f"{_n(len(g.members), 'member')}, line {g.line})",
             file=out,
         )
         for m in g.members:
-            notes = f"  [{'; '.join(m.notes)}]" if m.notes else ""
-            print(f"  {m.id}  {m.account}{notes}", file=out)
+            marks = "".join(
+                f"  <{p(r.word)}{': ' + p(r.meaning) if r.meaning else ''}"
+                f"{'' if r.links else ', not linked'}>"
+                for r in result.marks_of(m)
+            )
+            notes = f"  [{p('; '.join(m.notes))}]" if m.notes else ""
+            print(f"  {p(m.id)}  {p(m.account)}{marks}{notes}", file=out)
     _section(out, "corrections applied", result.corrections_applied)
-    if args.verbose:
+    if args.verbosity > 0:
         _section(out, "info", result.infos)
     _section(out, "warnings", result.warnings)
     _section(out, "errors", result.errors)
+    _verdict(out, result)
+    return 1 if result.errors else 0
+
+
+def _verdict(out: TextIO, result: RosterResult) -> None:
     print(
         f"{'FAILED' if result.errors else 'OK'}: {_n(len(result.errors), 'error')}, "
         f"{_n(len(result.warnings), 'warning')}",
         file=out,
     )
-    return 1 if result.errors else 0
 
 
 def _links(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
@@ -128,6 +185,14 @@ def _links(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         print(f"{len(result.errors)} errors; no links printed", file=err)
         return 1
     out.write(EMITTERS[args.format](result))
+    if args.verbosity > 0:
+        roster = result.roster
+        print(
+            f"{printable(result.file)}: {_n(len(roster.groups), 'group')}, "
+            f"{_n(len(roster.members), 'member')}, corrections: "
+            f"{printable(result.corrections_file or 'none')}",
+            file=err,
+        )
     return 0
 
 
@@ -136,9 +201,11 @@ def _as_dict(file: str, err: TextIO) -> dict | None:
         try:
             data = json.loads(Path(file).read_text(encoding="utf-8"))
         except OSError as exc:
-            raise RosterError(file, 0, "file", f"cannot read: {exc.strerror or exc}") from None
+            raise RosterError(
+                file, WHOLE_FILE, "file", f"cannot read: {exc.strerror or exc}"
+            ) from None
         except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-            line = getattr(exc, "lineno", 0)
+            line = getattr(exc, "lineno", WHOLE_FILE)
             raise RosterError(file, line, "file", f"not roster JSON: {exc}") from None
         if not isinstance(data, dict) or not isinstance(data.get("groups"), list):
             raise RosterError(
@@ -157,9 +224,11 @@ def _diff(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         return 1
     lines = diff(old, new)
     for line in lines:
-        print(line, file=out)
-    if not lines:
+        print(printable(line), file=out)
+    if not lines and args.verbosity >= 0:
         print("no changes", file=out)
+    if args.verbosity > 0:
+        print(f"{_n(len(lines), 'change')}", file=err)
     return 0
 
 
@@ -187,5 +256,5 @@ def main(argv: list[str] | None = None, prog: str = "sitegen roster") -> int:
             pass
         return 0
     except Exception as exc:  # a bug in roster: still one line, never a traceback
-        print(f"{prog}: internal error: {type(exc).__name__}: {exc}", file=err)
+        print(f"{prog}: internal error: {type(exc).__name__}: {printable(str(exc))}", file=err)
         return 1

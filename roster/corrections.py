@@ -10,6 +10,13 @@ is either stale (the roster was fixed) or mistyped itself.
     aliases:      {student id: account}   the GitHub account of a student
     group_names:  [{replace: "_", with: "-"}, {regex: "^x", with: "y"}]
     leaders:      {final group name: student id}
+    expected_ids: {student id: reason}   ids that rightly look unlike the others
+    marks:        {word: meaning} or {word: {meaning: ..., links: false, strike: true}}
+
+Group-name regexes run on the `regex` engine with a time limit (REGEX_TIMEOUT seconds per
+substitution): Python's `re` cannot be interrupted, and a pattern such as `(x+x+)+y`
+backtracks for hours on a 30-character name. A rule that runs out of time is an error
+naming the rule's line; the build goes on without it.
 """
 
 from __future__ import annotations
@@ -18,12 +25,18 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .model import Diagnostic, quoted
+import regex
+import yaml
+
+from .model import Diagnostic, MarkRule, quoted
 from .records import Collector, RawGroup
 from .source import decode, read_bytes
 from .yamlnodes import ROOT, Node, Walker, compose, line_of
 
-KEYS = ("typos", "aliases", "group_names", "leaders", "expected_ids")
+KEYS = ("typos", "aliases", "group_names", "leaders", "expected_ids", "marks")
+MARK_KEYS = ("meaning", "links", "strike")
+REGEX_TIMEOUT = 1.0  # seconds one group-name substitution may take
+_BOOLS = {"true": True, "yes": True, "on": True, "false": False, "no": False, "off": False}
 
 
 @dataclass
@@ -46,7 +59,7 @@ class NameRule:
     replacement: str
     line: int
     field: str
-    regex: re.Pattern[str] | None = None
+    regex: regex.Pattern[str] | None = None
     matched: bool = False
 
 
@@ -62,6 +75,7 @@ class Corrections:
     # ids that rightly look unlike the others (e.g. a student repeating the course from an
     # earlier cohort): id -> reason. Silences the id-shape warning for exactly those ids.
     expected_ids: dict[str, Entry] = field(default_factory=dict)
+    marks: dict[str, MarkRule] = field(default_factory=dict)  # mark word -> what it means
 
     def entries(self) -> list[Entry | NameRule]:
         return [
@@ -88,7 +102,7 @@ def load_corrections(path: Path) -> tuple[Corrections, list[Diagnostic]]:
         if key in ("typos", "aliases", "leaders", "expected_ids"):
             table: dict[str, Entry] = getattr(corr, key)
             for k, k_node, v_node in w.mapping(value, key):
-                v = w.scalar(v_node, f"{key}.{k}")
+                v = w.text(v_node, f"{key}.{k}")
                 if not k.strip() or v is None:
                     if not k.strip():
                         c.error(line_of(k_node), key, "empty key")
@@ -100,6 +114,11 @@ def load_corrections(path: Path) -> tuple[Corrections, list[Diagnostic]]:
                         f"{key}.{k}",
                         "typo maps a value to itself; it does nothing",
                     )
+        elif key == "marks":
+            for word, word_node, v_node in w.mapping(value, key):
+                rule = _mark_rule(w, word.strip(), line_of(word_node), v_node)
+                if rule is not None:
+                    corr.marks[rule.word] = rule
         elif key == "group_names":
             for i, item in enumerate(w.sequence(value, key), 1):
                 rule = _name_rule(w, item, f"group_names[{i}]")
@@ -110,6 +129,45 @@ def load_corrections(path: Path) -> tuple[Corrections, list[Diagnostic]]:
                 line_of(key_node), key, f"unknown key {key!r} (expected one of: {', '.join(KEYS)})"
             )
     return corr, c.finish()
+
+
+def _mark_rule(w: Walker, word: str, line: int, node: Node) -> MarkRule | None:
+    """One `marks:` entry: a scalar meaning, or {meaning, links, strike}."""
+    c = w.c
+    where = f"marks.{word}"
+    if not word or any(ch.isspace() for ch in word):
+        c.error(line, where, "a mark must be one word (it is matched as a whole word)")
+        return None
+    if any(ch.isdigit() for ch in word):
+        c.error(line, where, "a mark must not contain digits (it could be read as an id)")
+        return None
+    if isinstance(node, yaml.ScalarNode):
+        meaning = w.text(node, where, allow_empty=True)
+        return MarkRule(word, meaning or "")
+    found: dict[str, object] = {}
+    for key, key_node, value in w.mapping(node, where):
+        if key not in MARK_KEYS:
+            c.error(
+                line_of(key_node),
+                f"{where}.{key}",
+                f"unknown key {key!r} (expected one of: {', '.join(MARK_KEYS)})",
+            )
+            continue
+        text = w.text(value, f"{where}.{key}", allow_empty=(key == "meaning"))
+        if text is None:
+            continue
+        if key == "meaning":
+            found[key] = text
+        elif text.lower() in _BOOLS:
+            found[key] = _BOOLS[text.lower()]
+        else:
+            c.error(line_of(value), f"{where}.{key}", f"must be true or false, got {quoted(text)}")
+    return MarkRule(
+        word,
+        str(found.get("meaning", "")),
+        bool(found.get("links", True)),
+        bool(found.get("strike", False)),
+    )
 
 
 def _name_rule(w: Walker, node: Node, where: str) -> NameRule | None:
@@ -125,7 +183,7 @@ def _name_rule(w: Walker, node: Node, where: str) -> NameRule | None:
                 f"unknown key {key!r} (expected replace or regex, and with)",
             )
             continue
-        text = w.scalar(value, f"{where}.{key}", allow_empty=(key == "with"))
+        text = w.text(value, f"{where}.{key}", allow_empty=(key == "with"))
         if text is not None:
             found[key] = value.value if key == "with" else text  # keep spaces in replacements
     kinds = [k for k in ("replace", "regex") if k in found]
@@ -138,8 +196,8 @@ def _name_rule(w: Walker, node: Node, where: str) -> NameRule | None:
     rule = NameRule(kind, found[kind], found["with"], line, where)
     if kind == "regex":
         try:
-            rule.regex = re.compile(found[kind])
-        except re.error as exc:
+            rule.regex = regex.compile(found[kind], flags=regex.V0)
+        except regex.error as exc:
             c.error(line, f"{where}.regex", f"invalid regular expression: {exc}")
             return None
     return rule
@@ -148,130 +206,158 @@ def _name_rule(w: Walker, node: Node, where: str) -> NameRule | None:
 def apply_corrections(
     groups: list[RawGroup], corr: Corrections, roster_file: str
 ) -> tuple[list[Diagnostic], list[Diagnostic]]:
-    """Apply corrections in place. Returns (corrections applied, problems found)."""
-    applied: list[Diagnostic] = []
-    problems = Collector(corr.file)
+    """Apply corrections in place. Returns (corrections applied, problems found).
 
-    def report(line: int, where: str, message: str, entry: Entry | NameRule) -> None:
+    The steps run in a fixed order because each one sees the previous one's result: typos
+    first (an alias or leader is written with the corrected id), then aliases, group-name
+    rules (leaders are keyed by the final group name), leaders, expected ids, and last the
+    entries that matched nothing."""
+    run = _Run(corr, roster_file)
+    for step in (_fix_typos, _apply_aliases, _rename_groups, _set_leaders, _note_expected_ids):
+        step(run, groups)
+    _warn_unmatched(run)
+    return run.applied, run.problems.finish()
+
+
+@dataclass
+class _Run:
+    """One application of a corrections file: what was applied, what went wrong."""
+
+    corr: Corrections
+    roster_file: str
+    applied: list[Diagnostic] = field(default_factory=list)
+    problems: Collector = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.problems = Collector(self.corr.file)
+
+    def report(self, line: int, where: str, message: str, entry: Entry | NameRule) -> None:
+        """Record a change at the roster's spot, naming the correction's line; mark it used."""
         entry.matched = True
-        applied.append(
-            Diagnostic("info", roster_file, line, where, f"{message} [{corr.file}:{entry.line}]")
-        )
+        note = f"{message} [{self.corr.file}:{entry.line}]"
+        self.applied.append(Diagnostic(self.roster_file, line, where, note, "info"))
 
+
+def _fix_typos(run: _Run, groups: list[RawGroup]) -> None:
+    """Exact-value typos in ids, written accounts and written leaders."""
+    typos = run.corr.typos
     for group in groups:
         for m in group.members:
-            typo = corr.typos.get(m.id)
+            typo = typos.get(m.id)
             if typo is not None:
-                report(m.line, m.field, f"typo: id {quoted(m.id)} -> {quoted(typo.value)}", typo)
+                run.report(
+                    m.line, m.field, f"typo: id {quoted(m.id)} -> {quoted(typo.value)}", typo
+                )
                 m.id = typo.value
                 if not m.account_given:
                     m.account = m.id
-            typo = corr.typos.get(m.account) if m.account_given else None
+            typo = typos.get(m.account) if m.account_given else None
             if typo is not None:
-                report(
-                    m.line,
-                    m.account_field,
-                    f"typo: account {quoted(m.account)} -> {quoted(typo.value)}",
-                    typo,
-                )
+                message = f"typo: account {quoted(m.account)} -> {quoted(typo.value)}"
+                run.report(m.line, m.account_field, message, typo)
                 m.account = typo.value
-        if group.leader is not None and group.leader in corr.typos:
-            typo = corr.typos[group.leader]
-            report(
-                group.leader_line,
-                group.leader_field,
-                f"typo: leader {quoted(group.leader)} -> {quoted(typo.value)}",
-                typo,
-            )
+        if group.leader is not None and group.leader in typos:
+            typo = typos[group.leader]
+            message = f"typo: leader {quoted(group.leader)} -> {quoted(typo.value)}"
+            run.report(group.leader_line, group.leader_field, message, typo)
             group.leader = typo.value
 
+
+def _apply_aliases(run: _Run, groups: list[RawGroup]) -> None:
+    """A student's GitHub account by id; one that is already right is reported as confirmed."""
     for group in groups:
         for m in group.members:
-            alias = corr.aliases.get(m.id)
+            alias = run.corr.aliases.get(m.id)
             if alias is None:
                 continue
             m.explained = True
             if m.account == alias.value:
-                report(
-                    m.line,
-                    m.account_field,
-                    f"alias: account of {m.id} is already {quoted(alias.value)} (confirmed)",
-                    alias,
-                )
-            else:
-                report(
-                    m.line,
-                    m.account_field,
-                    f"alias: account of {m.id} {quoted(m.account)} -> {quoted(alias.value)}",
-                    alias,
-                )
-                m.account = alias.value
-                m.account_given = True
+                message = f"alias: account of {m.id} is already {quoted(alias.value)} (confirmed)"
+                run.report(m.line, m.account_field, message, alias)
+                continue
+            message = f"alias: account of {m.id} {quoted(m.account)} -> {quoted(alias.value)}"
+            run.report(m.line, m.account_field, message, alias)
+            m.account = alias.value
+            m.account_given = True
 
-    for rule in corr.group_names:
+
+def _rename_groups(run: _Run, groups: list[RawGroup]) -> None:
+    """Group-name rules in file order; a rule that fails stops at that rule, not the build."""
+    for rule in run.corr.group_names:
         for group in groups:
-            try:
-                if rule.regex is not None:
-                    new = rule.regex.sub(rule.replacement, group.name)
-                else:
-                    new = group.name.replace(rule.pattern, rule.replacement)
-            except (re.error, IndexError) as exc:
-                problems.error(
-                    rule.line,
-                    rule.field,
-                    f"replacement {quoted(rule.replacement)} is invalid: {exc}",
-                )
+            new = _renamed(run, rule, group.name)
+            if new is None:
                 break
             if new != group.name:
-                report(
-                    group.line,
-                    group.field,
-                    f"group name {quoted(group.name)} -> {quoted(new)}",
-                    rule,
-                )
+                message = f"group name {quoted(group.name)} -> {quoted(new)}"
+                run.report(group.line, group.field, message, rule)
                 group.name = new
 
+
+def _renamed(run: _Run, rule: NameRule, name: str) -> str | None:
+    """``name`` after ``rule``, or None (with an error) when the rule timed out or is invalid."""
+    try:
+        if rule.regex is not None:
+            return rule.regex.sub(rule.replacement, name, timeout=REGEX_TIMEOUT)
+        return name.replace(rule.pattern, rule.replacement)
+    except TimeoutError:
+        run.problems.error(
+            rule.line,
+            rule.field,
+            f"regex {quoted(rule.pattern)} took over {REGEX_TIMEOUT:g} s on the group "
+            f"name {quoted(name)} (nested repeats like (x+)+ backtrack "
+            "exponentially); the rule was not applied",
+        )
+    except (regex.error, re.error, IndexError) as exc:
+        run.problems.error(
+            rule.line, rule.field, f"replacement {quoted(rule.replacement)} is invalid: {exc}"
+        )
+    return None
+
+
+def _set_leaders(run: _Run, groups: list[RawGroup]) -> None:
+    """Leaders by final group name; the leader must be one of the group's members."""
     for group in groups:
-        entry = corr.leaders.get(group.name)
+        entry = run.corr.leaders.get(group.name)
         if entry is None:
             continue
         entry.matched = True
         ids = [m.id for m in group.members]
         if entry.value not in ids:
-            problems.error(
+            run.problems.error(
                 entry.line,
                 entry.field,
                 f"leader {quoted(entry.value)} is not a member of group {quoted(group.name)}",
             )
             continue
         before = group.leader or (ids[0] if ids else "")
-        report(
-            group.line, group.field, f"leader of {group.name}: {entry.value} (was {before})", entry
-        )
-        group.leader, group.leader_line, group.leader_field, group.leader_file = (
-            entry.value,
-            entry.line,
-            entry.field,
-            corr.file,
-        )
+        message = f"leader of {group.name}: {entry.value} (was {before})"
+        run.report(group.line, group.field, message, entry)
+        group.leader, group.leader_line = entry.value, entry.line
+        group.leader_field, group.leader_file = entry.field, run.corr.file
 
+
+def _note_expected_ids(run: _Run, groups: list[RawGroup]) -> None:
+    """Ids that rightly look unlike the others: reported so the reason shows beside them."""
     for group in groups:
         for m in group.members:
-            expected = corr.expected_ids.get(m.id)
+            expected = run.corr.expected_ids.get(m.id)
             if expected is not None:
-                report(m.line, m.field, f"id {quoted(m.id)} expected: {expected.value}", expected)
+                message = f"id {quoted(m.id)} expected: {expected.value}"
+                run.report(m.line, m.field, message, expected)
 
-    for entry in corr.entries():
-        if not entry.matched:
-            what = (
-                f"{entry.kind} {quoted(entry.pattern)}"
-                if isinstance(entry, NameRule)
-                else quoted(entry.key)
-            )
-            problems.warning(
-                entry.line, entry.field, f"correction {what} matched nothing in {roster_file}"
-            )
-    return applied, problems.finish()
+
+def _warn_unmatched(run: _Run) -> None:
+    """An entry that changed nothing is stale or mistyped itself: a warning at its line."""
+    for entry in run.corr.entries():
+        if entry.matched:
+            continue
+        if isinstance(entry, NameRule):
+            what = f"{entry.kind} {quoted(entry.pattern)}"
+        else:
+            what = quoted(entry.key)
+        message = f"correction {what} matched nothing in {run.roster_file}"
+        run.problems.warning(entry.line, entry.field, message)
 
 
 def find_corrections(roster: Path) -> Path | None:

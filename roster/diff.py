@@ -11,6 +11,17 @@ from __future__ import annotations
 from typing import Any
 
 
+def _marks(data: dict[str, Any]) -> dict[str, str]:
+    """id -> its marks as written (`X`), for members that carry any."""
+    out: dict[str, str] = {}
+    for group in data.get("groups", []):
+        for member in group.get("members", []):
+            marks = member.get("marks") or []
+            if isinstance(marks, list) and marks:
+                out.setdefault(str(member.get("id", "")), " ".join(str(m) for m in marks))
+    return out
+
+
 def _members(
     data: dict[str, Any],
 ) -> tuple[dict[str, str], dict[str, str], dict[str, str], dict[str, set[str]]]:
@@ -32,7 +43,8 @@ def _members(
 
 
 def _renames(old_ids: dict[str, set[str]], new_ids: dict[str, set[str]]) -> dict[str, str]:
-    """Old group name -> new name, for groups that vanished while a group of mostly the same members appeared."""
+    """Old group name -> new name, for groups that vanished while a group of mostly the same
+    members appeared."""
     removed = [g for g in old_ids if g not in new_ids]
     added = [g for g in new_ids if g not in old_ids]
     renames: dict[str, str] = {}
@@ -53,7 +65,7 @@ def diff(old: dict[str, Any], new: dict[str, Any]) -> list[str]:
     """Human-readable changes from `old` to `new` (both `to_dict()` shaped), in a stable order.
 
     Lines: groups added/removed/renamed, leaders changed, members added, removed
-    or moved between groups, accounts changed. Empty list: no change.
+    or moved between groups, accounts changed, marks set or cleared. Empty list: no change.
     """
     old_group, old_account, old_leader, old_ids = _members(old)
     new_group, new_account, new_leader, new_ids = _members(new)
@@ -82,4 +94,16 @@ def diff(old: dict[str, Any], new: dict[str, Any]) -> list[str]:
                 lines.append(f"member moved: {sid} from {old_group[sid]} to {new_group[sid]}")
             if old_account[sid] != new_account[sid]:
                 lines.append(f"account changed: {sid}: {old_account[sid]} -> {new_account[sid]}")
+    old_marks, new_marks = _marks(old), _marks(new)
+    for sid in sorted(set(old_marks) | set(new_marks)):
+        before, after = old_marks.get(sid), new_marks.get(sid)
+        if before == after:
+            continue
+        if before is None:
+            lines.append(f"member marked: {sid} {after} (in {new_group.get(sid, '?')})")
+        elif after is None:
+            if sid in new_group:
+                lines.append(f"mark removed: {sid} (was {before})")
+        else:
+            lines.append(f"mark changed: {sid}: {before} -> {after}")
     return lines

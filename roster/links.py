@@ -11,10 +11,6 @@ typos being fixed) and refusing the whole site for that helps nobody.
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from .model import Group, Member
 
 SAFE_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 SAFE_MAX_LEN = 100  # GitHub repository names are at most 100 characters
@@ -71,16 +67,3 @@ def site_url(account: str, repo: str) -> str | None:
     if not (is_safe(account) and is_safe(repo)):
         return None
     return f"https://{account}.github.io/{repo}"
-
-
-def group_urls(group: Group) -> tuple[str | None, str | None]:
-    """The group's repo and site, both owned by the leader's account."""
-    leader = group.leader_member
-    if leader is None:
-        return None, None
-    return repo_url(leader.account, group.slug), site_url(leader.account, group.slug)
-
-
-def member_urls(member: Member, course_repo: str) -> tuple[str | None, str | None]:
-    """The member's personal course repo and site."""
-    return repo_url(member.account, course_repo), site_url(member.account, course_repo)

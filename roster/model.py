@@ -4,90 +4,77 @@ The final objects (`Member`, `Group`, `Roster`) are frozen so that a loaded rost
 can be shared by the site pipeline and the CLI without anyone mutating it behind
 the other's back. Problems found while loading are *data* (`Diagnostic`), not
 exceptions, so one run can report every problem in a file at once; only a file
-that cannot be read at all raises `RosterError`.
+that cannot be read at all raises `RosterError`. Both are the shared located form
+(`located.diagnostics`), re-exported here.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any
 
-from .links import group_urls, member_urls
+from located.diagnostics import WHOLE_FILE, Diagnostic, LocatedError, Severity, printable, quoted
 
-Severity = Literal["error", "warning", "info"]
+from .links import repo_url, site_url
 
-_CONTROL_ESCAPES = {"\t": "\\t", "\n": "\\n", "\r": "\\r"}
-
-
-def printable(text: str) -> str:
-    """Escape control and line-separator characters so a message stays on one line.
-
-    Diagnostics quote raw input; a stray tab, CR or NUL in a field must not break
-    the one-line `file:line: field: message` format or a terminal.
-    """
-    out = []
-    for ch in text:
-        code = ord(ch)
-        if ch in _CONTROL_ESCAPES:
-            out.append(_CONTROL_ESCAPES[ch])
-        elif code < 0x20 or 0x7F <= code < 0xA0 or ch in "\u2028\u2029\u200b\u200e\u200f\ufeff":
-            out.append(f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}")
-        else:
-            out.append(ch)
-    return "".join(out)
+__all__ = [
+    "WHOLE_FILE",
+    "Diagnostic",
+    "Group",
+    "MarkRule",
+    "Member",
+    "Roster",
+    "RosterError",
+    "RosterResult",
+    "Severity",
+    "printable",
+    "quoted",
+]
 
 
-def quoted(value: str) -> str:
-    """Quote a raw input value for a message (single quotes, control chars escaped)."""
-    return "'" + printable(value) + "'"
-
-
-@dataclass(frozen=True, slots=True)
-class Diagnostic:
-    """One finding about an input file, located precisely enough to fix it.
-
-    `line` is 1-based; 0 means "the file as a whole". `field` is a column
-    (`col 4`), a member slot (`member 3 id (col 6)`) or a key path
-    (`typos.4823122`) -- whatever lets a person find the spot.
-    """
-
-    severity: Severity
-    file: str
-    line: int
-    field: str
-    message: str
-
-    def __str__(self) -> str:
-        return f"{printable(self.file)}:{self.line}: {printable(self.field)}: {printable(self.message)}"
-
-
-class RosterError(Exception):
+class RosterError(LocatedError):
     """The roster (or corrections) file could not be read at all.
 
     Malformed *content* never raises; it becomes error diagnostics. This is only
-    for missing/unreadable files and unsupported file types.
+    for missing/unreadable files and unsupported file types. ``line`` is None
+    (:data:`WHOLE_FILE`) when the problem is the file as a whole.
     """
 
-    def __init__(self, file: str, line: int, field: str, message: str) -> None:
-        self.file = file
-        self.line = line
-        self.field = field
-        self.message = message
-        super().__init__(str(self))
-
-    def __str__(self) -> str:
-        return str(Diagnostic("error", self.file, self.line, self.field, self.message))
+    def __init__(self, file: str, line: int | None, field: str, message: str) -> None:
+        super().__init__(Diagnostic(file, line, field, message))
 
 
 @dataclass(frozen=True, slots=True)
 class Member:
-    """A student: id, GitHub account, annotation notes, and where they were written."""
+    """A student: id, GitHub account, annotation notes, and where they were written.
+
+    `marks` are the teacher's mark words written beside the id or account (`X 40823151`,
+    `40623121 X`): data, kept in order, whose meaning the corrections file gives (`MarkRule`).
+    """
 
     id: str
     account: str
     notes: tuple[str, ...] = ()
     line: int = 0
     field: str = ""
+    marks: tuple[str, ...] = ()
+
+    def urls(self, course_repo: str) -> tuple[str | None, str | None]:
+        """The member's personal course repo and site (None where a part is unsafe)."""
+        return repo_url(self.account, course_repo), site_url(self.account, course_repo)
+
+
+@dataclass(frozen=True, slots=True)
+class MarkRule:
+    """What a mark word means: a sentence for readers, whether the member is linked, struck."""
+
+    word: str
+    meaning: str = ""
+    links: bool = True
+    strike: bool = False
+
+
+DEFAULT_MARKS = (MarkRule("X"),)
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,6 +94,13 @@ class Group:
             if member.id == self.leader:
                 return member
         return None
+
+    def urls(self) -> tuple[str | None, str | None]:
+        """The group's repo and site, both owned by the leader's account."""
+        leader = self.leader_member
+        if leader is None:
+            return None, None
+        return repo_url(leader.account, self.slug), site_url(leader.account, self.slug)
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,6 +126,22 @@ class RosterResult:
     corrections_file: str | None = None
     course_repo: str = "cd2021"
     format: str = ""
+    layout: str = ""  # TSV only: "paired" (id, account, ...) or "ids" (ids only)
+    mark_rules: dict[str, MarkRule] = field(default_factory=dict)
+
+    def marks_of(self, member: Member) -> list[MarkRule]:
+        """The rules of a member's marks (a mark without a rule means only "marked")."""
+        return [self.mark_rules.get(m) or MarkRule(m) for m in member.marks]
+
+    def linked(self, member: Member) -> bool:
+        """False when one of the member's marks says the member is left out of links."""
+        return all(rule.links for rule in self.marks_of(member))
+
+    def member_links(self, member: Member) -> tuple[str | None, str | None]:
+        """The member's repo and site URLs; (None, None) when unsafe or marked as not linked."""
+        if not self.linked(member):
+            return None, None
+        return member.urls(self.course_repo)
 
     @property
     def errors(self) -> list[Diagnostic]:
@@ -160,26 +170,27 @@ class RosterResult:
         """
         groups = []
         for group in self.roster.groups:
-            repo_url, site_url = group_urls(group)
+            group_repo, group_site = group.urls()
             members = []
             for member in group.members:
-                m_repo, m_site = member_urls(member, self.course_repo)
-                members.append(
-                    {
-                        "id": member.id,
-                        "account": member.account,
-                        "repo_url": m_repo,
-                        "site_url": m_site,
-                        "notes": list(member.notes),
-                    }
-                )
+                m_repo, m_site = self.member_links(member)
+                entry: dict[str, Any] = {
+                    "id": member.id,
+                    "account": member.account,
+                    "repo_url": m_repo,
+                    "site_url": m_site,
+                    "notes": list(member.notes),
+                }
+                if member.marks:
+                    entry["marks"] = list(member.marks)
+                members.append(entry)
             groups.append(
                 {
                     "name": group.name,
                     "slug": group.slug,
                     "leader": group.leader,
-                    "repo_url": repo_url,
-                    "site_url": site_url,
+                    "repo_url": group_repo,
+                    "site_url": group_site,
                     "members": members,
                 }
             )

@@ -136,7 +136,8 @@ def _row(
             c.error(
                 lineno,
                 col["leader"],
-                f"group {quoted(group_name)} already has leader {group.leader} (line {group.leader_line})",
+                f"group {quoted(group_name)} already has leader {group.leader} "
+                f"(line {group.leader_line})",
             )
         else:
             group.leader = member.id

@@ -49,9 +49,9 @@ def _group(w: Walker, node: Node, gi: int) -> RawGroup | None:
     leader_line = 0
     for key, key_node, value in w.mapping(node, f"group {gi}"):
         if key == "name":
-            name = w.scalar(value, "group name")
+            name = w.text(value, "group name")
         elif key == "leader":
-            leader = w.scalar(value, "group leader")
+            leader = w.text(value, "group leader")
             leader_line = line_of(value)
         elif key == "members":
             members_node = value
@@ -94,18 +94,18 @@ def _member(w: Walker, node: Node, mi: int, group: RawGroup) -> None:
     id_line = account_line = line_of(node)
     for key, key_node, value in w.mapping(node, where):
         if key == "id":
-            sid = w.scalar(value, f"{where} id", allow_empty=True)
+            sid = w.text(value, f"{where} id", allow_empty=True)
             id_line = line_of(value)
         elif key == "account":
-            account = w.scalar(value, f"{where} account", allow_empty=True)
+            account = w.text(value, f"{where} account", allow_empty=True)
             account_line = line_of(value)
         elif key == "notes":
             if isinstance(value, yaml.ScalarNode):
-                text = w.scalar(value, f"{where} notes", allow_empty=True)
+                text = w.text(value, f"{where} notes", allow_empty=True)
                 notes += [text] if text else []
             else:
                 for item in w.sequence(value, f"{where} notes"):
-                    text = w.scalar(item, f"{where} notes")
+                    text = w.text(item, f"{where} notes")
                     notes += [text] if text else []
         else:
             c.error(

@@ -64,6 +64,27 @@ def split_marks(raw: str) -> tuple[str, list[str]]:
     return s, lead + trail[::-1]
 
 
+def split_mark_words(raw: str, words: frozenset[str]) -> tuple[str, list[str]]:
+    """Separate the teacher's mark words (`X 40823151`, `40623121 X`) from a field.
+
+    A mark word counts only as a whole word at the start or the end of the field, so an
+    account that merely contains an `X` is never touched. A field that is only a mark
+    word gives ('', [word]).
+    """
+    tokens = raw.split()
+    if not words or not tokens:
+        return raw, []
+    lead: list[str] = []
+    while tokens and tokens[0] in words:
+        lead.append(tokens.pop(0))
+    trail: list[str] = []
+    while tokens and tokens[-1] in words:
+        trail.insert(0, tokens.pop())
+    if not lead and not trail:
+        return raw, []
+    return " ".join(tokens), lead + trail
+
+
 @dataclass(slots=True)
 class RawMember:
     """A member as written, before corrections.
@@ -81,6 +102,7 @@ class RawMember:
     account_field: str
     raw_account: str = ""
     explained: bool = False  # an alias set or confirmed the account
+    marks: tuple[str, ...] = ()
 
 
 @dataclass(slots=True)
@@ -98,7 +120,8 @@ class RawGroup:
 
 
 def describe_members(members: list[RawMember]) -> str:
-    """`40823101, 40823102 (account a40823102)`: every id and account, for messages about dropped groups."""
+    """`40823101, 40823102 (account a40823102)`: every id and account, for messages about
+    dropped groups."""
     parts = [
         m.id if m.account == m.id else f"{m.id} (account {quoted(m.account)})" for m in members
     ]
@@ -108,22 +131,24 @@ def describe_members(members: list[RawMember]) -> str:
 class Collector:
     """Gathers diagnostics for one file and aggregates the noisy, harmless ones."""
 
-    def __init__(self, file: str) -> None:
+    def __init__(self, file: str, mark_words: frozenset[str] = frozenset({"X"})) -> None:
         self.file = file
+        self.mark_words = mark_words  # whole words beside an id or account that are marks
+        self.layout = ""  # set by the TSV parser: "paired" or "ids"
         self.diagnostics: list[Diagnostic] = []
         self._trimmed = 0
         self._first_trim: tuple[int, str] | None = None
 
-    def add(self, severity: Severity, line: int, where: str, message: str) -> None:
-        self.diagnostics.append(Diagnostic(severity, self.file, line, where, message))
+    def add(self, severity: Severity, line: int | None, where: str, message: str) -> None:
+        self.diagnostics.append(Diagnostic(self.file, line, where, message, severity))
 
-    def error(self, line: int, where: str, message: str) -> None:
+    def error(self, line: int | None, where: str, message: str) -> None:
         self.add("error", line, where, message)
 
-    def warning(self, line: int, where: str, message: str) -> None:
+    def warning(self, line: int | None, where: str, message: str) -> None:
         self.add("warning", line, where, message)
 
-    def info(self, line: int, where: str, message: str) -> None:
+    def info(self, line: int | None, where: str, message: str) -> None:
         self.add("info", line, where, message)
 
     def trimmed(self, line: int, where: str) -> None:
@@ -163,6 +188,11 @@ def make_member(
         c.trimmed(line, id_field)
     if account_raw is not None and account_raw != account_raw.strip():
         c.trimmed(line, account_field)
+    id_raw, id_words = split_mark_words(id_raw, c.mark_words)
+    if account_raw is not None:
+        account_raw, account_words = split_mark_words(account_raw, c.mark_words)
+    else:
+        account_words = []
     sid, id_marks = split_marks(id_raw)
     if sid and not is_student_id(sid):
         sid, id_marks = id_raw.strip(), []  # not "id + mark": report the raw text as it is
@@ -176,6 +206,13 @@ def make_member(
                 id_field,
                 f"student id is empty but the account {quoted(account_raw or '')} is given"
                 + (f" (with {quoted(id_raw.strip())})" if id_raw.strip() else ""),
+            )
+        elif id_words or account_words:
+            c.warning(
+                line,
+                id_field,
+                f"slot holds only the mark(s) {quoted(' '.join(id_words + account_words))} "
+                "and no student id",
             )
         elif id_marks:
             # Digits in a lone annotation may be a student id written oddly: never drop it quietly.
@@ -195,16 +232,26 @@ def make_member(
         c.error(
             line,
             id_field,
-            f"{quoted(id_raw.strip())} is not a student id (letters and digits, at least one digit){extra}",
+            f"{quoted(id_raw.strip())} is not a student id "
+            f"(letters and digits, at least one digit){extra}",
         )
         return None
     notes = tuple(id_marks + account_marks)
+    bad = next(
+        (n for n in notes if any(ord(ch) < 0x20 or 0x7F <= ord(ch) < 0xA0 for ch in n)), None
+    )
+    if bad is not None:  # would reach a terminal or a page raw: refuse, as for any value
+        c.error(line, id_field, f"annotation {quoted(bad)} beside {sid} holds a control character")
+        return None
+    for words, where in ((id_words, id_field), (account_words, account_field)):
+        for word in words:
+            c.info(line, where, f"mark {quoted(word)} beside {sid} kept on the member")
     for marks, where in ((id_marks, id_field), (account_marks, account_field)):
         for mark in marks:
             c.warning(line, where, f"annotation {quoted(mark)} beside {sid} kept as a member note")
     given = bool(account)
     if not given:
-        if missing_account is not None:
+        if missing_account is not None and not account_words:  # `40823151<TAB>X`: a mark
             c.warning(
                 line, account_field, f"{missing_account} for {sid}; the account defaults to the id"
             )
@@ -218,4 +265,5 @@ def make_member(
         field=id_field,
         account_field=account_field,
         raw_account=(account_raw or "").strip(),
+        marks=tuple(id_words + account_words),
     )

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .model import Diagnostic, RosterError
+from .model import WHOLE_FILE, Diagnostic, RosterError
 
 FORMATS = {".txt": "tsv", ".tsv": "tsv", ".csv": "csv", ".yml": "yaml", ".yaml": "yaml"}
 SEPARATORS = {"tsv": "\t", "csv": ",", "yaml": None}
@@ -38,7 +38,7 @@ def detect_format(path: Path) -> str:
         accepted = ", ".join(sorted(FORMATS))
         raise RosterError(
             str(path),
-            0,
+            WHOLE_FILE,
             "file",
             f"unsupported roster file type {path.suffix or '(none)'!r}; use one of {accepted}",
         )
@@ -50,11 +50,15 @@ def read_bytes(path: Path) -> bytes:
     try:
         return path.read_bytes()
     except FileNotFoundError:
-        raise RosterError(str(path), 0, "file", "no such file") from None
+        raise RosterError(str(path), WHOLE_FILE, "file", "no such file") from None
     except IsADirectoryError:
-        raise RosterError(str(path), 0, "file", "is a directory, not a roster file") from None
+        raise RosterError(
+            str(path), WHOLE_FILE, "file", "is a directory, not a roster file"
+        ) from None
     except OSError as exc:
-        raise RosterError(str(path), 0, "file", f"cannot read: {exc.strerror or exc}") from None
+        raise RosterError(
+            str(path), WHOLE_FILE, "file", f"cannot read: {exc.strerror or exc}"
+        ) from None
 
 
 def _decode_utf8_reporting(data: bytes, file: str, sep: str | None) -> tuple[str, list[Diagnostic]]:
@@ -85,11 +89,11 @@ def _decode_utf8_reporting(data: bytes, file: str, sep: str | None) -> tuple[str
                     where = f"char {bad - line_start + 1}"
                 diags.append(
                     Diagnostic(
-                        "error",
                         file,
                         line,
                         where,
-                        f"undecodable byte 0x{data[bad]:02x} (file is not UTF-8; re-save it as UTF-8)",
+                        f"undecodable byte 0x{data[bad]:02x} "
+                        "(file is not UTF-8; re-save it as UTF-8)",
                     )
                 )
             pos = pos + exc.end
@@ -105,22 +109,22 @@ def decode(data: bytes, file: str, fmt: str) -> SourceText:
             text = data.decode("utf-16")
         except UnicodeDecodeError as exc:
             diags.append(
-                Diagnostic("error", file, 1, "file", f"invalid UTF-16 text at byte {exc.start}")
+                Diagnostic(file, 1, "file", f"invalid UTF-16 text at byte {exc.start}", "error")
             )
             text = data.decode("utf-16", errors="replace")
         diags.append(
-            Diagnostic("info", file, 1, "file", "decoded as UTF-16 (byte-order mark found)")
+            Diagnostic(file, 1, "file", "decoded as UTF-16 (byte-order mark found)", "info")
         )
         text = text.lstrip("\ufeff")
     else:
         if data.startswith(b"\xef\xbb\xbf"):
             data = data[3:]
-            diags.append(Diagnostic("info", file, 1, "file", "UTF-8 byte-order mark removed"))
+            diags.append(Diagnostic(file, 1, "file", "UTF-8 byte-order mark removed", "info"))
         text, bad = _decode_utf8_reporting(data, file, sep)
         diags.extend(bad)
     if "\n" not in text and "\r" in text:
         diags.append(
-            Diagnostic("info", file, 1, "file", "old Mac line endings (CR) treated as line breaks")
+            Diagnostic(file, 1, "file", "old Mac line endings (CR) treated as line breaks", "info")
         )
         text = text.replace("\r", "\n")
     lines = text.split("\n")
@@ -133,6 +137,6 @@ def decode(data: bytes, file: str, fmt: str) -> SourceText:
             crlf += 1
     if crlf:
         diags.append(
-            Diagnostic("info", file, 1, "file", f"CRLF line endings normalised ({crlf} lines)")
+            Diagnostic(file, 1, "file", f"CRLF line endings normalised ({crlf} lines)", "info")
         )
     return SourceText(file, lines, diags)

@@ -21,7 +21,8 @@ NAME_EXTRA_CHARS = " _-.+()"
 
 
 def slug_for(name: str) -> str:
-    """A group's URL slug: its name with runs of whitespace turned into `-` (as GitHub does for repo names)."""
+    """A group's URL slug: its name with runs of whitespace turned into `-` (as GitHub does
+    for repository names)."""
     return re.sub(r"\s+", "-", name.strip())
 
 
@@ -31,7 +32,10 @@ def _name_problem(name: str) -> str | None:
         return "is longer than 100 characters"
     for ch in name:
         if not (ch.isalnum() or ch in NAME_EXTRA_CHARS) or unicodedata.category(ch).startswith("C"):
-            return f"contains the forbidden character {quoted(ch)} (allowed: letters, digits, space, _ - . + ( ))"
+            return (
+                f"contains the forbidden character {quoted(ch)} "
+                "(allowed: letters, digits, space, _ - . + ( ))"
+            )
     return None
 
 
@@ -61,6 +65,7 @@ def validate(
     members = [m for g in groups for m in g.members]
     _check_memberships(groups, c)
     _check_id_shapes([m for m in members if m.id not in expected_ids], c)
+    _check_near_duplicates(members, c, expected_ids)
     _check_accounts(members, c)
 
 
@@ -84,14 +89,16 @@ def _check_groups(groups: list[RawGroup], c: Collector) -> None:
             c.error(
                 g.line,
                 g.field,
-                f"group slug {quoted(slug)} {reason}; rename the group with a group_names rule in the corrections file",
+                f"group slug {quoted(slug)} {reason}; "
+                "rename the group with a group_names rule in the corrections file",
             )
         other = slugs.get(slug.lower())
         if other is not None and other.name != g.name:
             c.error(
                 g.line,
                 g.field,
-                f"groups {quoted(other.name)} (line {other.line}) and {quoted(g.name)} have the same slug {quoted(slug)}",
+                f"groups {quoted(other.name)} (line {other.line}) and {quoted(g.name)} "
+                f"have the same slug {quoted(slug)}",
             )
         slugs.setdefault(slug.lower(), g)
         if not g.members:
@@ -120,13 +127,24 @@ def _check_memberships(groups: list[RawGroup], c: Collector) -> None:
                 c.error(
                     m.line,
                     m.field,
-                    f"student {m.id} is listed twice in group {quoted(g.name)} (also line {seen[1].line}, {seen[1].field})",
+                    f"student {m.id} is listed twice in group {quoted(g.name)} "
+                    f"(also line {seen[1].line}, {seen[1].field})",
+                )
+            elif m.marks or seen[1].marks:
+                marked = m if m.marks else seen[1]
+                c.warning(
+                    m.line,
+                    m.field,
+                    f"student {m.id} is in two groups: {quoted(seen[0].name)} "
+                    f"(line {seen[1].line}) and {quoted(g.name)}; "
+                    f"marked {' '.join(marked.marks)} on line {marked.line}",
                 )
             else:
                 c.error(
                     m.line,
                     m.field,
-                    f"student {m.id} is in two groups: {quoted(seen[0].name)} (line {seen[1].line}) and {quoted(g.name)}",
+                    f"student {m.id} is in two groups: {quoted(seen[0].name)} "
+                    f"(line {seen[1].line}) and {quoted(g.name)}",
                 )
 
 
@@ -175,6 +193,87 @@ def _check_accounts(members: list[RawMember], c: Collector) -> None:
             c.warning(
                 m.line,
                 m.account_field,
-                f"account {quoted(m.account)} is also used by {other.id} (line {other.line}); their links will be the same",
+                f"account {quoted(m.account)} is also used by {other.id} (line {other.line}); "
+                "their links will be the same",
             )
         owners.setdefault(m.account.lower(), m)
+
+
+SERIAL_DIGITS = 3  # the last digits of an id number students within a class
+
+
+def _one_edit_variants(value: str) -> list[tuple[str, str]]:
+    """(variant, how) for every adjacent transposition and every one-digit change."""
+    out = []
+    for i in range(len(value) - 1):
+        if value[i] != value[i + 1]:
+            swapped = value[:i] + value[i + 1] + value[i] + value[i + 2 :]
+            out.append((swapped, "one transposition"))
+    for i, ch in enumerate(value):
+        if ch.isdigit():
+            for d in "0123456789":
+                if d != ch:
+                    out.append((value[:i] + d + value[i + 1 :], "one digit"))
+    return out
+
+
+def _check_near_duplicates(
+    members: list[RawMember], c: Collector, expected_ids: set[str] | frozenset[str]
+) -> None:
+    """Warn about an id that is one typo away from another id, or from the class's id range.
+
+    Ids of one class share a prefix (year, department) and differ in the last
+    SERIAL_DIGITS digits, so two ids one digit apart *there* are simply two students. A
+    slip in the prefix is what a typo looks like: `40832244` beside `40823244`. So only
+    pairs whose prefixes differ are reported, and an id outside the class's prefix that
+    one edit would put inside the range the class uses (first to last id of the
+    majority prefix). `expected_ids` in the corrections silences an id.
+    """
+    ids: dict[str, RawMember] = {}
+    for m in members:
+        ids.setdefault(m.id, m)
+    if len(ids) < 2:
+        return
+
+    def prefix(value: str) -> str:
+        return value[:-SERIAL_DIGITS] if len(value) > SERIAL_DIGITS else ""
+
+    common = _majority([prefix(v) for v in ids if prefix(v)])
+    class_ids = sorted(v for v in ids if common and prefix(v) == common)
+    low, high = (class_ids[0], class_ids[-1]) if class_ids else ("", "")
+    reported: set[frozenset[str]] = set()
+    for sid, m in ids.items():
+        if sid in expected_ids or prefix(sid) == common or not prefix(sid):
+            continue
+        near_range = None
+        for variant, how in _one_edit_variants(sid):
+            other = ids.get(variant)
+            if other is not None and variant not in expected_ids:
+                if prefix(variant) == prefix(sid) or frozenset((sid, variant)) in reported:
+                    continue
+                reported.add(frozenset((sid, variant)))
+                c.warning(
+                    m.line,
+                    m.field,
+                    f"id {sid} is {how} away from {variant} (line {other.line}, {other.field}); "
+                    "a typo? (add it to expected_ids in the corrections if both are right)",
+                )
+                near_range = None
+                break
+            if (
+                near_range is None
+                and common
+                and prefix(variant) == common
+                and len(variant) == len(low)
+                and low <= variant <= high
+            ):
+                near_range = (variant, how)
+        if near_range is not None:
+            variant, how = near_range
+            c.warning(
+                m.line,
+                m.field,
+                f"id {sid} is outside the class's id range {low}-{high} "
+                f"but {how} away from {variant} "
+                "inside it; a typo? (add it to expected_ids in the corrections if it is right)",
+            )

@@ -1,12 +1,13 @@
 """Content-hash keys for clips and the on-disk cache layout.
 
-Key = sha256 over: the source's files (scenario file, ...) and the engine files below, by
-content and package-relative name (never mtimes or absolute paths, so a fresh checkout hits the
-same entries), the params, seed, size, fps, seconds, the requested renderer and the pybullet
-and OpenCV versions. Layout::
+Key = sha256 over: the source's files (scenario file, script...) by content and file name, the
+engine files below by content and package-relative name (never mtimes or absolute paths, so a
+checkout copied or moved elsewhere hits the same entries), the params, seed, size, fps,
+seconds, speed, the requested renderer and the pybullet and OpenCV versions. Layout::
 
     cache_dir/<key>/        clip.webm poster.png data.csv data.json path.svg meta.json
     cache_dir/latest/<name>.json   {"key": ...}  the last good render of each clip name
+    cache_dir/failed/<key>.json    {"name": ..., "error": ...}  a render of these inputs failed
 """
 
 from __future__ import annotations
@@ -22,17 +23,19 @@ from typing import Any
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 ROOT_DIR = PACKAGE_DIR.parent
-CACHE_FORMAT = 1
+CACHE_FORMAT = 2
 ENGINE_FILES = (
     "world.py",
     "recording.py",
     "render.py",
+    "camera.py",  # overview camera and floor trail
     "video.py",
     "plot.py",
     "clip_worker.py",
     "sources.py",
     "models/*.py",
     "scenarios/__init__.py",
+    "scene/*.py",
 )
 FILES = {
     "video": "clip.webm",
@@ -84,7 +87,8 @@ def _versions() -> dict[str, str]:
 
 def clip_key(fields: dict[str, Any], source_files: list[str]) -> str:
     """Hex key from the spec fields that change the output and all relevant source bytes."""
-    files = {display_path(f): file_digest(f) for f in [*source_files, *engine_files()]}
+    files = {_source_name(f): file_digest(f) for f in source_files}
+    files |= {p.relative_to(PACKAGE_DIR).as_posix(): file_digest(p) for p in engine_files()}
     payload = {
         "format": CACHE_FORMAT,
         "fields": fields,
@@ -93,6 +97,48 @@ def clip_key(fields: dict[str, Any], source_files: list[str]) -> str:
     }
     text = json.dumps(payload, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+def _file_params(params: dict[str, Any]) -> dict[str, Path]:
+    """Params naming a file (a scene file, say): keyed by the file's bytes, not its path."""
+    out = {}
+    for key, value in params.items():
+        if isinstance(value, str) and Path(value).is_absolute() and Path(value).is_file():
+            out[key] = Path(value)
+    return out
+
+
+def _source_name(path: str | Path) -> str:
+    """How a source file is named in a key: package-relative inside sims/, else its file name."""
+    p = Path(path).resolve()
+    try:
+        return p.relative_to(PACKAGE_DIR).as_posix()
+    except ValueError:
+        return f"source/{p.name}"
+
+
+def scene_files(scene: str) -> list[str]:
+    """The scene file a clip's world is built from: a path, or a bundled name's shipped file."""
+    if Path(scene).is_absolute() and Path(scene).is_file():
+        return [scene]
+    try:
+        from sims.scene.resolve import FILE_SCENES, bundled_file
+    except ImportError:
+        return []
+    return [str(bundled_file(scene))] if scene in FILE_SCENES else []
+
+
+def key_files(plan: Any) -> list[str]:
+    """The files whose bytes identify a clip's source: the plan's, the scene file its world is
+    built from, and files its params name (a script's scene file)."""
+    files = [*plan.hash_files, *scene_files(str(plan.scene))]
+    files += [str(p) for p in _file_params(plan.params).values()]
+    return list(dict.fromkeys(files))
+
+
+def portable_params(params: dict[str, Any]) -> dict[str, Any]:
+    """``params`` with file paths replaced by ``file:NAME`` (for keys, meta and data files)."""
+    return {**params, **{k: f"file:{p.name}" for k, p in _file_params(params).items()}}
 
 
 def entry_dir(cache_dir: Path, key: str) -> Path:
@@ -147,3 +193,26 @@ def latest_key(cache_dir: Path, name: str) -> str | None:
     except (OSError, ValueError, KeyError, TypeError):
         return None
     return key if load_entry(cache_dir, key) is not None else None
+
+
+def _failure_file(cache_dir: Path, key: str) -> Path:
+    return Path(cache_dir) / "failed" / f"{key}.json"
+
+
+def record_failure(cache_dir: Path, key: str, name: str, error: str) -> None:
+    """Remember that rendering these inputs failed, so the next build does not run them again."""
+    path = _failure_file(cache_dir, key)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps({"name": name, "error": error}) + "\n", encoding="utf-8")
+
+
+def load_failure(cache_dir: Path, key: str) -> str | None:
+    """The remembered error for these inputs, or None."""
+    try:
+        return str(json.loads(_failure_file(cache_dir, key).read_text(encoding="utf-8"))["error"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def clear_failure(cache_dir: Path, key: str) -> None:
+    _failure_file(cache_dir, key).unlink(missing_ok=True)

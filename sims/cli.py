@@ -45,12 +45,35 @@ def _positive(kind: type):
     return parse
 
 
+def _add_verbosity(p: argparse.ArgumentParser) -> None:
+    """-q/-v as on every sitegen command: quiet keeps failures and the command's data."""
+    group = p.add_mutually_exclusive_group()
+    group.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=-1,
+        default=0,
+        help="list: names only; render: failures only",
+    )
+    group.add_argument(
+        "-v",
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=1,
+        help="list: also parameters; render: also each file written",
+    )
+
+
 def build_parser(prog: str) -> argparse.ArgumentParser:
     parser = _Parser(prog=prog, description="Headless robot simulations and their clips.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    sub.add_parser("list", help="list the scenarios")
+    _add_verbosity(sub.add_parser("list", help="list the scenarios"))
     render = sub.add_parser("render", help="render clips of scenarios (NAME or 'all')")
     render.add_argument("names", nargs="+", metavar="NAME")
+    _add_verbosity(render)
     render.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default {DEFAULT_OUT})")
     render.add_argument("--size", type=_size, default=(480, 360), help="WxH (default 480x360)")
     render.add_argument("--fps", type=_positive(int), default=20, help="frames per second")
@@ -58,6 +81,9 @@ def build_parser(prog: str) -> argparse.ArgumentParser:
         "--seconds", type=_positive(float), help="clip length (default: scenario's)"
     )
     render.add_argument("--seed", type=int, help="seed (default: scenario's)")
+    render.add_argument(
+        "--speed", type=_positive(float), default=1.0, help="time-lapse factor, >= 1 (default 1)"
+    )
     render.add_argument("--jobs", type=_positive(int), help="parallel workers (default: CPUs)")
     render.add_argument(
         "--cache", default=DEFAULT_CACHE, help=f"cache folder (default {DEFAULT_CACHE})"
@@ -72,13 +98,13 @@ def main(argv: list[str] | None = None, prog: str = "sitegen sims") -> int:
         if args.command is None:
             raise UsageError("a command is required: list or render")
         if args.command == "list":
-            return _list()
+            return _list(args.verbosity)
         return _render(args, prog)
     except UsageError as exc:
         print(f"{prog}: {exc}", file=sys.stderr)
         print(
             f"usage: {prog} list | render NAME... [--out DIR] [--size WxH] [--fps N] "
-            "[--seconds S] [--jobs N]",
+            "[--seconds S] [--speed X] [--jobs N]",
             file=sys.stderr,
         )
         return 2
@@ -92,14 +118,20 @@ def main(argv: list[str] | None = None, prog: str = "sitegen sims") -> int:
         return 1
 
 
-def _list() -> int:
+def _list(verbosity: int = 0) -> int:
     from sims.scenarios import list_scenarios
 
     scenarios = list_scenarios()
     width = max(len(s.name) for s in scenarios)
     for s in scenarios:
+        if verbosity < 0:
+            print(s.name)
+            continue
         duration = f"{s.duration_for(s.params):g} s"
         print(f"{s.name:<{width}}  {s.scene:<5} {duration:>6}  {s.description}")
+        if verbosity > 0:
+            for key, value in sorted(s.params.items()):
+                print(f"{'':<{width}}    {key} = {value!r}")
     return 0
 
 
@@ -110,6 +142,8 @@ def _render(args: argparse.Namespace, prog: str) -> int:
     known = [s.name for s in list_scenarios()]
     names = known if args.names == ["all"] else list(dict.fromkeys(args.names))
     unknown = [n for n in names if n not in known]
+    if args.speed < 1:
+        raise UsageError(f"--speed must be at least 1, not {args.speed:g}")
     if unknown:
         raise UsageError(f"unknown scenario {', '.join(unknown)} (known: {', '.join(known)})")
     width, height = args.size
@@ -122,6 +156,7 @@ def _render(args: argparse.Namespace, prog: str) -> int:
             fps=args.fps,
             seconds=args.seconds,
             seed=args.seed,
+            speed=args.speed,
         )
         for n in names
     ]
@@ -134,12 +169,17 @@ def _render(args: argparse.Namespace, prog: str) -> int:
             target.mkdir(parents=True, exist_ok=True)
             for path in r.files.values():
                 shutil.copyfile(path, target / path.name)
+        if r.ok and args.verbosity < 0:
+            continue
         if r.ok:
             how = f"rendered in {r.seconds:.1f} s" if r.rendered else "cached"
             print(
                 f"ok      {r.name}: {r.meta.get('frames')} frames "
                 f"{r.meta.get('width')}x{r.meta.get('height')}, {how} -> {target}/"
             )
+            if args.verbosity > 0:
+                for path in sorted(r.files.values()):
+                    print(f"          wrote {target / path.name}")
         else:
             failed += 1
             kept = f" (kept the previous clip in {target}/)" if r.stale else ""

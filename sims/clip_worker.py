@@ -1,61 +1,153 @@
-"""Renders one clip inside a worker process: World + Recorder + WebM writer + data files.
+"""The three phases of a clip, run in worker processes: simulate, render frame ranges, encode.
 
-Runs as ``python -m sims.clip_worker JOB.json`` in a fresh process, so every clip has its own
-pybullet client and a clip that hangs can be killed without touching the others. The outcome
-is written as ``result.json`` next to the clip files; the parent reads it (a killed worker
-leaves none, a crashed one leaves its stderr in ``worker.log``).
+1. **simulate** runs the clip's source in a World without a renderer (physics only, fast),
+   writes the data files (CSV, JSON, SVG path) and a *state tape*: for every video frame, the
+   pose of every body and the position of every joint (``states.npz``).
+2. **render** rebuilds the scene in a World with the renderer, and for one frame range sets
+   each recorded state and draws it (``frames-NNNNNN.rgb``, raw RGB). Ranges are independent,
+   so one long clip keeps every core busy; a range never depends on what its process drew
+   before (``Renderer.new_sequence``), so the bytes do not depend on how ranges were scheduled.
+3. **encode** writes the ranges, in order, to ``clip.webm`` and ``poster.png`` (middle frame)
+   and the clip's ``meta.json``.
+
+``python -m sims.clip_worker`` serves jobs: one JSON line per job on stdin, one JSON line per
+progress report or result on stdout (C-level output of pybullet/EGL goes to stderr, the worker's
+log). A worker keeps its last render World, so consecutive ranges of one clip skip the rebuild.
+``render_job`` runs all three phases in the calling process (``sitegen remote-api --record``).
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 import time
 import traceback
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from sims.cache import FILES, META, display_path
+import numpy as np
+
+from sims.cache import FILES, META
 from sims.plot import path_svg
-from sims.recording import RecordingTimeout, record
+from sims.quiet import pybullet as p
+from sims.recording import RecordingTimeout, frame_count, record
 from sims.render import requested_renderer
 from sims.sources import load_plan_function
 from sims.video import WebmWriter, write_png
 from sims.world import World
 
-JOB, RESULT, LOG = "job.json", "result.json", "worker.log"
+STATES = "states.npz"
+Progress = Callable[[int], None]
 
 
-def render_job(job: dict[str, Any]) -> dict[str, Any]:
-    """Render ``job["spec"]`` into ``job["out_dir"]``; returns the meta dict."""
-    from sims.clips import ClipSpec
+class SceneChanged(RuntimeError):
+    """The set of bodies changed during the run, so recorded states cannot be replayed."""
+
+
+def _label(spec: dict[str, Any]) -> str:
+    return f"{spec.get('kind', 'scenario')} {spec.get('label') or spec['scenario']!r}"
+
+
+# -- state tape ------------------------------------------------------------------------------
+def _layout(world: World) -> list[tuple[int, tuple[int, ...]]]:
+    """Every body and its movable joints, in id order: what a state vector holds."""
+    c = world.client_id
+    out = []
+    for i in range(p.getNumBodies(physicsClientId=c)):
+        body = p.getBodyUniqueId(i, physicsClientId=c)
+        joints = tuple(
+            j
+            for j in range(p.getNumJoints(body, physicsClientId=c))
+            if p.getJointInfo(body, j, physicsClientId=c)[2] != p.JOINT_FIXED
+        )
+        out.append((body, joints))
+    return out
+
+
+def _covers(world: World, layout: list[tuple[int, tuple[int, ...]]]) -> bool:
+    """Does ``world`` hold every body of ``layout`` with the same joints? Extra bodies are
+    allowed: a scene file's visual-only bodies, which ``World.render`` puts on their links."""
+    have = dict(_layout(world))
+    return all(have.get(body) == joints for body, joints in layout)
+
+
+def capture_state(world: World, layout: list[tuple[int, tuple[int, ...]]]) -> list[float]:
+    c = world.client_id
+    values: list[float] = []
+    for body, joints in layout:
+        pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=c)
+        values += [*pos, *orn]
+        if joints:
+            values += [s[0] for s in p.getJointStates(body, joints, physicsClientId=c)]
+    return values
+
+
+def apply_state(world: World, layout: list[tuple[int, tuple[int, ...]]], state: np.ndarray) -> None:
+    c = world.client_id
+    i = 0
+    for body, joints in layout:
+        p.resetBasePositionAndOrientation(
+            body, state[i : i + 3].tolist(), state[i + 3 : i + 7].tolist(), physicsClientId=c
+        )
+        i += 7
+        for j in joints:
+            p.resetJointState(body, j, float(state[i]), physicsClientId=c)
+            i += 1
+
+
+# -- phase 1: simulate -----------------------------------------------------------------------
+def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
+    """Run the source; write data files and the state tape into ``out_dir``."""
+    from sims.cache import portable_params
+    from sims.clip_spec import ClipSpec
 
     spec = ClipSpec(**job["spec"])
     out = Path(job["out_dir"])
     plan = load_plan_function(job["target"])(spec)
     length = spec.seconds if spec.seconds is not None else plan.duration
-    poster_index = max(1, round(length * spec.fps)) // 2
-    poster: list[Any] = []
-    with WebmWriter(out / FILES["video"], spec.width, spec.height, spec.fps) as video:
+    total = frame_count(length, spec.fps, spec.speed)
+    states: list[list[float]] = []
+    seen: dict[str, Any] = {}
 
-        def on_frame(world: World) -> None:
-            image = world.render(spec.width, spec.height, plan.follow or world.model.robot)
-            if video.frames == poster_index:
-                poster.append(image)
-            video.write(image)
+    def on_frame(world: World) -> None:
+        if "layout" not in seen:
+            seen["layout"] = _layout(world)
+        elif world.steps < seen["steps"] and not _covers(world, seen["layout"]):  # a reset
+            raise SceneChanged(f"the scene's bodies changed at frame {len(states)}")
+        seen["steps"] = world.steps
+        states.append(capture_state(world, seen["layout"]))
+        if progress is not None:
+            progress(len(states))
 
-        recording, renderer = record(
-            plan,
-            fps=spec.fps,
-            seconds=spec.seconds,
-            on_frame=on_frame,
-            deadline=time.monotonic() + job["time_limit"],
-            render_with=requested_renderer(),
-        )
-        written = video.frames
-    write_png(out / FILES["poster"], poster[0])
-    title = f"{spec.scenario} (seed {plan.seed}): path of {recording.subject}"
+    deadline = time.monotonic() + job["time_limit"]
+    recording, _ = record(
+        plan,
+        fps=spec.fps,
+        seconds=spec.seconds,
+        on_frame=on_frame,
+        deadline=deadline,
+        speed=spec.speed,
+    )
+    if not states or len(states) > total:  # fewer: the source ended the clip early
+        raise RuntimeError(f"recorded {len(states)} frames, expected {total}")
+    total = len(states)
+    follow = plan.follow or recording.subject
+    layout = seen["layout"]
+    np.savez(
+        out / STATES,
+        states=np.asarray(states, dtype=np.float64),
+        layout=np.asarray(json.dumps(layout)),
+        world=np.asarray(
+            json.dumps({"scene": plan.scene, "seed": plan.seed, "options": plan.scene_options})
+        ),
+    )
+    name = spec.label or spec.scenario
+    params = portable_params(plan.params)
+    scene = Path(plan.scene).name if Path(plan.scene).is_absolute() else plan.scene
+    title = f"{name} (seed {plan.seed}): path of {recording.subject}"
     (out / FILES["plot"]).write_text(
         path_svg(recording.column("x"), recording.column("y"), title, recording.breaks),
         encoding="utf-8",
@@ -63,59 +155,251 @@ def render_job(job: dict[str, Any]) -> dict[str, Any]:
     (out / FILES["csv"]).write_text(recording.to_csv(), encoding="utf-8")
     header = {
         "kind": spec.kind,
-        "scenario": spec.scenario,
+        "scenario": name,
         "seed": plan.seed,
-        "params": plan.params,
+        "params": params,
         "fps": spec.fps,
-        "scene": plan.scene,
+        "speed": spec.speed,
+        "scene": scene,
     }
     (out / FILES["json"]).write_text(recording.to_json(**header), encoding="utf-8")
-    meta = {
+    return {
         "kind": spec.kind,
-        "scenario": spec.scenario,
+        "scenario": name,
         "description": plan.description,
-        "source": display_path(plan.source_path),
-        "scene": plan.scene,
+        "source": spec.label or _portable(plan.source_path),
+        "scene": scene,
         "seed": plan.seed,
-        "params": plan.params,
-        "duration": round(written / spec.fps, 3),
-        "frames": written,
+        "params": params,
+        "frames": total,
+        "samples": len(recording.rows),
+        "duration": round(len(recording.rows) / spec.fps, 3),
         "fps": spec.fps,
+        "speed": spec.speed,
         "width": spec.width,
         "height": spec.height,
-        "renderer": renderer,
-        "files": dict(FILES),
+        "follow": follow,
     }
+
+
+def _portable(path: str) -> str:
+    from sims.cache import display_path
+
+    return display_path(path)
+
+
+# -- phase 2: render a frame range -------------------------------------------------------------
+class WorldCache:
+    """The worker's render World, kept while consecutive ranges come from the same clip."""
+
+    def __init__(self) -> None:
+        self.key: str | None = None
+        self.world: World | None = None
+        self.path: np.ndarray | None = None  # the followed object's positions (camera plans)
+
+    def get(self, key: str, make: Callable[[], World]) -> World:
+        if key != self.key or self.world is None:
+            self.close()
+            self.world = make()
+            self.key = key
+        return self.world
+
+    def close(self) -> None:
+        if self.world is not None:
+            self.world.close()
+        self.world, self.key, self.path = None, None, None
+
+
+def followed_path(
+    world: World, layout: list[tuple[int, tuple[int, ...]]], states: np.ndarray, follow: str
+) -> np.ndarray:
+    """Where ``follow`` is in every recorded frame (N×3): what the overview camera frames and
+    the trail draws. A function of the tape alone, so every frame range gets the same plan."""
+    out = np.empty((len(states), 3), dtype=np.float64)
+    for n, state in enumerate(states):
+        apply_state(world, layout, state)
+        out[n] = world.object_pose(follow)[0]
+    return out
+
+
+def range_file(out: Path, start: int) -> Path:
+    return out / f"frames-{start:06d}.rgb"
+
+
+def render_range(
+    job: dict[str, Any], progress: Progress | None = None, worlds: WorldCache | None = None
+) -> dict[str, Any]:
+    """Render frames ``job["start"]`` to ``job["stop"]`` of the state tape to a raw RGB file."""
+    out = Path(job["out_dir"])
+    spec = job["spec"]
+    width, height = spec["width"], spec["height"]
+    with np.load(out / STATES) as tape:
+        every_state = tape["states"]
+        states = every_state[job["start"] : job["stop"]]
+        layout = [(b, tuple(j)) for b, j in json.loads(str(tape["layout"]))]
+        setup = json.loads(str(tape["world"]))
+    renderer = requested_renderer()
+    cache = worlds or WorldCache()
+    world_key = json.dumps([str(out), renderer])
+
+    def make() -> World:
+        world = World(setup["scene"], seed=setup["seed"], render_with=renderer, **setup["options"])
+        if not _covers(world, layout):
+            world.close()
+            raise SceneChanged("the rebuilt scene does not match the recorded one")
+        return world
+
+    world = cache.get(world_key, make)
+    try:
+        mode, trail = spec.get("camera", "follow"), spec.get("trail", False)
+        if (mode != "follow" or trail) and cache.path is None:
+            cache.path = followed_path(world, layout, every_state, job["follow"])
+        fixed = None
+        if mode == "overview":
+            from sims.camera import matrices, overview_for
+            from sims.render import FAR, FOV_DEG, NEAR
+
+            ov = overview_for(cache.path, world.model.camera.yaw, FOV_DEG, width / height)
+            fixed = matrices(ov, FOV_DEG, width / height, NEAR, FAR)
+        if world._renderer is not None:
+            world._renderer.new_sequence()
+        deadline = time.monotonic() + job["time_limit"]
+        with open(range_file(out, job["start"]), "wb") as f:
+            for n, state in enumerate(states, 1):
+                if time.monotonic() > deadline:
+                    raise RecordingTimeout(f"time limit passed at frame {job['start'] + n - 1}")
+                apply_state(world, layout, state)
+                image = world.render(width, height, job["follow"], fixed)
+                if trail:
+                    from sims.camera import draw_trail
+                    from sims.render import chase_camera
+
+                    view, proj = fixed or chase_camera(world, width, height, job["follow"])
+                    image = draw_trail(image, cache.path[: job["start"] + n], view, proj)
+                f.write(np.ascontiguousarray(image).tobytes())
+                if progress is not None:
+                    progress(n)
+        return {"renderer": world.renderer, "frames": len(states)}
+    finally:
+        if worlds is None:
+            cache.close()
+
+
+# -- phase 3: encode ---------------------------------------------------------------------------
+def encode(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
+    """Join the ranges into ``clip.webm`` (+ poster) and write ``meta.json``."""
+    out = Path(job["out_dir"])
+    spec = job["spec"]
+    meta = dict(job["meta"])
+    width, height, total = spec["width"], spec["height"], meta["frames"]
+    size = width * height * 3
+    poster_index = total // 2
+    done = 0
+    with WebmWriter(out / FILES["video"], width, height, spec["fps"]) as video:
+        for start in job["starts"]:
+            path = range_file(out, start)
+            with open(path, "rb") as f:
+                while chunk := f.read(size):
+                    frame = np.frombuffer(chunk, dtype=np.uint8).reshape(height, width, 3)
+                    if done == poster_index:
+                        write_png(out / FILES["poster"], frame)
+                    video.write(frame)
+                    done += 1
+                    if progress is not None:
+                        progress(done)
+            path.unlink()
+    if done != total:
+        raise RuntimeError(f"encoded {done} frames, expected {total}")
+    (out / STATES).unlink(missing_ok=True)
+    meta.pop("follow", None)
+    meta["renderer"] = job["renderer"]
+    meta["files"] = dict(FILES)
     (out / META).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n", encoding="utf-8")
     return meta
 
 
-def child_main(job: dict[str, Any]) -> None:
-    """Process entry point: never raises; the outcome goes to result.json."""
-    started = time.monotonic()
-    label = f"{job['spec'].get('kind', 'scenario')} {job['spec']['scenario']!r}"
+def range_starts(total: int, size: int) -> list[int]:
+    """Frame range starts: fixed by the clip's frame count alone, never by the worker count."""
+    return list(range(0, total, size)) or [0]
+
+
+RANGE_FRAMES = 60  # frames per render job: ~1 s of EGL work, small enough to share out
+
+
+def render_job(job: dict[str, Any]) -> dict[str, Any]:
+    """All three phases in this process; returns the clip's meta (as the workers would)."""
+    meta = simulate(job)
+    starts = range_starts(meta["frames"], RANGE_FRAMES)
+    worlds = WorldCache()
+    renderers = set()
     try:
-        meta = render_job(job)
-        result = {"ok": True, "meta": meta}
+        for start in starts:
+            stop = min(start + RANGE_FRAMES, meta["frames"])
+            part = {**job, "start": start, "stop": stop, "follow": meta["follow"]}
+            renderers.add(render_range(part, worlds=worlds)["renderer"])
+    finally:
+        worlds.close()
+    return encode({**job, "meta": meta, "starts": starts, "renderer": "+".join(sorted(renderers))})
+
+
+# -- the worker process ------------------------------------------------------------------------
+def run_phase(job: dict[str, Any], progress: Progress, worlds: WorldCache) -> dict[str, Any]:
+    phase = job["phase"]
+    if phase == "simulate":
+        worlds.close()  # a World per process with EGL: free it before the next clip's
+        return simulate(job, progress)
+    if phase == "render":
+        return render_range(job, progress, worlds)
+    if phase == "encode":
+        return encode(job, progress)
+    raise ValueError(f"unknown phase {phase!r}")
+
+
+def outcome(job: dict[str, Any], run: Callable[[], dict[str, Any]]) -> dict[str, Any]:
+    """``{"ok": True, "result": ...}`` or ``{"ok": False, "error": one line naming the clip}``."""
+    label = _label(job["spec"])
+    try:
+        return {"ok": True, "result": run()}
     except RecordingTimeout as exc:
-        result = {
-            "ok": False,
-            "error": f"{label} passed its time limit of {_seconds(job['time_limit'])} ({exc})",
-        }
+        limit = job["time_limit"]
+        shown = f"{limit:g} s" if math.isfinite(limit) else "inf"
+        return {"ok": False, "error": f"{label} passed its wall-clock limit of {shown} ({exc})"}
     except Exception as exc:  # reported, not raised: the other clips go on
         where = traceback.extract_tb(exc.__traceback__)[-1]
-        result = {
+        return {
             "ok": False,
             "error": f"{label} failed: {type(exc).__name__}: {exc} "
             f"({Path(where.filename).name}:{where.lineno})",
         }
-    result["seconds"] = round(time.monotonic() - started, 3)
-    Path(job["out_dir"], RESULT).write_text(json.dumps(result), encoding="utf-8")
 
 
-def _seconds(value: float) -> str:
-    return f"{value:g} s" if math.isfinite(value) else "inf"
+def serve() -> None:
+    """Job loop of a worker process (see the module docstring for the protocol)."""
+    channel = os.fdopen(os.dup(1), "w", buffering=1, encoding="utf-8")
+    os.dup2(2, 1)  # pybullet and EGL print at the C level: into the log, not the channel
+    sys.stdout = sys.stderr
+    worlds = WorldCache()
+
+    def send(message: dict[str, Any]) -> None:
+        channel.write(json.dumps(message) + "\n")
+
+    send({"ready": True})  # imports done: the parent starts the job's wall clock now
+
+    for line in sys.stdin:
+        if not line.strip():
+            continue
+        job = json.loads(line)
+        last = [0.0]
+
+        def progress(n: int, job_id: int = job["id"], last: list[float] = last) -> None:
+            now = time.monotonic()
+            if now - last[0] >= 0.1:
+                last[0] = now
+                send({"id": job_id, "progress": n})
+
+        send({"id": job["id"], **outcome(job, lambda job=job: run_phase(job, progress, worlds))})
+    worlds.close()
 
 
 if __name__ == "__main__":
-    child_main(json.loads(Path(sys.argv[1]).read_text(encoding="utf-8")))
+    serve()

@@ -1,69 +1,63 @@
 """Render simulation clips (WebM + poster + CSV/JSON + SVG path), cached by content hash.
 
 ``render_clips(specs, cache_dir)`` resolves each :class:`ClipSpec` to a recording plan, looks
-its key up in the cache (sims/cache.py) and renders only what is missing, in parallel worker
-processes (one World each). A clip whose source raises or
-passes the time limit comes back ``ok=False`` with an error naming it, the others still
-render, and the last good render of that clip name is returned with ``stale=True``.
+its key up in the cache (sims/cache.py) and renders only what is missing. A render is three
+kinds of job (sims/clip_worker.py): *simulate* (physics only, records the state of every frame),
+*render* one frame range of that state tape, *encode* the ranges into the WebM. Jobs run in
+worker processes (sims/clip_pool.py), simulations first, so one long clip's frame ranges keep
+every core busy.
 
-Workers are plain ``python -m sims.clip_worker`` subprocesses rather than multiprocessing's
-spawn/forkserver: those re-import the caller's ``__main__``, so any script calling
-render_clips without an ``if __name__ == "__main__"`` guard would recurse. A subprocess costs
-~0.3 s of imports per clip and can be killed cleanly when it passes its time limit.
+Failures never raise: a clip whose source raises, crashes its worker or passes its limit comes
+back ``ok=False`` with an error naming it, and with the last good render of that clip name
+(``stale=True``) when there is one. The failure is remembered in the cache under the clip's key
+(its inputs), so an unchanged broken clip is reported again without running;
+``retry_failed=True`` runs it anyway.
 
-Progress: ``progress(ClipEvent)`` gets "cached" for a cache hit, or "started" and then "done"
-or "failed" for a render (a clip that fails before starting gets just "failed").
+Limits: a clip stops after its length in simulated seconds (the Recorder ends the source, so it
+never runs more physics steps than ``length / timestep``); a script source also has a simulated
+clock limit (sims/remote_api/script_clips.py). Wall-clock time is only a safety net:
+``spec.timeout`` or ``timeout`` (seconds per job), checked between frames and enforced by
+killing the worker.
+
+Progress: ``progress(ClipEvent)`` gets "cached" for a cache hit, or "queued" (with the
+frame count, as soon as the clip is planned), "started", "progress"
+(frames done, phase) and then "done" or "failed" for a render ("failed" alone for a clip that
+fails before starting, ``remembered=True`` for a failure recalled from the cache).
 
 Adding a recording source kind (e.g. ``kind="script"`` clips that run a course script)
 --------------------------------------------------------------------------------------------
-1. Write ``plan(spec: ClipSpec) -> sims.sources.RecordingPlan`` in any importable module. It
+1. Write ``plan(spec: ClipSpec) -> sims.recording.RecordingPlan`` in any importable module. It
    must not build a World; it says which scene/seed/duration to use, which files identify the
    source (``hash_files``, e.g. the script), and gives ``drive(world, record)``, which drives
-   the World (``world.advance`` etc.) while the Recorder samples and films. ``spec.scenario``
-   is the source's own target (a script path, say) and ``spec.params`` its options.
-2. Register it: ``sims.sources.register_source_kind("script", "pkg.module:plan")`` before
-   calling render_clips (or add the entry to ``sims.sources.SOURCE_KINDS``). Workers receive
-   the import path and import it themselves.
-   Workers get the parent's ``sys.path``, so any module the parent can import works.
+   the World (``world.advance`` etc.) while the Recorder samples. ``spec.scenario`` is the
+   source's own target (a script path, say), ``spec.label`` its portable name (a path relative
+   to the project: what keys and outputs show), and ``spec.params`` its options.
+2. Declare it in the one table ``sims.sources.SOURCE_KINDS`` (kind -> "module:function";
+   ``register_source_kind`` adds one at run time, for tests and extensions). Workers
+   receive the import path and import it themselves; they get the parent's ``sys.path``.
 3. Use it: ``ClipSpec(name="demo", scenario="path/to/script.py", kind="script")``.
 """
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
-import subprocess
-import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 from sims import cache
-from sims.clip_worker import JOB, LOG, RESULT
+from sims.clip_pool import Job, Pool
+from sims.clip_spec import ClipSpec
+from sims.clip_worker import RANGE_FRAMES, range_starts
+from sims.recording import frame_count
 from sims.render import requested_renderer
 from sims.sources import load_plan_function, source_target
 
-DEFAULT_TIMEOUT = 900.0
-KILL_GRACE = 15.0  # at most this long past the time limit before a worker is killed
-
-
-@dataclass(frozen=True)
-class ClipSpec:
-    """One clip to render. ``seconds``/``seed`` None = the source's own duration/seed."""
-
-    name: str
-    scenario: str
-    width: int = 480
-    height: int = 360
-    fps: int = 20
-    seconds: float | None = None
-    seed: int | None = None
-    params: dict[str, Any] = field(default_factory=dict)
-    kind: str = "scenario"
+DEFAULT_TIMEOUT = 600.0
 
 
 @dataclass
@@ -75,6 +69,8 @@ class ClipResult:
     error: str | None = None
     rendered: bool = False
     stale: bool = False
+    remembered: bool = False  # a failure recalled from the cache, not run again
+    pending: bool = False  # not rendered: the call rendered nothing (``render=False``)
     files: dict[str, Path] = field(default_factory=dict)
     meta: dict[str, Any] = field(default_factory=dict)
     seconds: float = 0.0  # wall time spent rendering it now (0 for cache hits)
@@ -83,39 +79,58 @@ class ClipResult:
 @dataclass(frozen=True)
 class ClipEvent:
     name: str
-    status: str  # "started", "done", "failed" or "cached"
+    status: str  # "queued", "started", "progress", "done", "failed" or "cached"
     seconds: float = 0.0
     error: str | None = None
+    frames: int = 0  # frames drawn so far (progress/done)
+    total: int = 0  # frames of the clip
+    phase: str = ""  # "simulating", "rendering", "encoding"
+    remembered: bool = False
 
 
 Progress = Callable[[ClipEvent], None]
 
 
-@dataclass
-class _Job:
+@dataclass(eq=False)
+class _Clip:
+    """One clip being rendered: its jobs, frames drawn per range, its outcome."""
+
     index: int
     spec: ClipSpec
     key: str
     target: str
     tmp: Path
-    frames: int = 0
-    process: Any = None
+    total: int
+    limit: float
     started: float = 0.0
-    ended: float = 0.0
+    meta: dict[str, Any] = field(default_factory=dict)
+    starts: list[int] = field(default_factory=list)
+    drawn: dict[int, int] = field(default_factory=dict)
+    waiting: list[Job] = field(default_factory=list)  # ranges not yet handed out
+    running: int = 0
+    renderers: set[str] = field(default_factory=set)
+    phase: str = "simulating"
+    error: str | None = None
+    outcome: dict[str, Any] | None = None
 
 
 def spec_fields(spec: ClipSpec, seed: int, params: dict[str, Any]) -> dict[str, Any]:
-    """The spec values that change the output (the clip name does not)."""
+    """The spec values that change the output: never the clip name or an absolute path."""
+    source = spec.label or (spec.scenario if spec.kind == "scenario" else Path(spec.scenario).name)
     return {
         "kind": spec.kind,
-        "scenario": spec.scenario,
-        "params": params,
+        "scenario": source,
+        "params": cache.portable_params(params),
         "seed": seed,
         "width": spec.width,
         "height": spec.height,
         "fps": spec.fps,
         "seconds": spec.seconds,
+        "speed": spec.speed,
         "renderer": requested_renderer(),
+        # only when not the default, so the keys of existing follow-camera clips stay valid
+        **({"camera": spec.camera} if spec.camera != "follow" else {}),
+        **({"trail": True} if spec.trail else {}),
     }
 
 
@@ -125,17 +140,21 @@ def render_clips(
     jobs: int | None = None,
     progress: Progress | None = None,
     timeout: float = DEFAULT_TIMEOUT,
+    retry_failed: bool = False,
+    render: bool = True,
 ) -> list[ClipResult]:
     """Render (or fetch from cache) every spec; results come back in the order of ``specs``.
 
-    ``jobs``: parallel workers (default: CPU count). ``timeout``: wall-clock seconds per clip.
-    """
+    ``jobs``: worker processes (default: CPU count). ``timeout``: wall-clock seconds per job
+    for specs without their own. ``retry_failed``: run clips whose failure is remembered.
+    ``render=False``: cache only; a clip not in the cache comes back ``pending``, with the
+    last good render of its name when there is one (``sitegen serve``'s first build)."""
     cache_dir = Path(cache_dir)
     cache_dir.mkdir(parents=True, exist_ok=True)
     notify = progress or (lambda event: None)
     results: list[ClipResult | None] = [None] * len(specs)
-    queue: list[_Job] = []
-    followers: dict[str, list[tuple[int, ClipSpec]]] = {}  # same key as a queued job
+    todo: list[_Clip] = []
+    followers: dict[str, list[tuple[int, ClipSpec]]] = {}  # same key as a queued clip
     seen: set[str] = set()
     for i, spec in enumerate(specs):
         if spec.name in seen:
@@ -145,24 +164,28 @@ def render_clips(
             continue
         seen.add(spec.name)
         try:
+            _check_spec(spec)
             target = source_target(spec.kind)
             plan = load_plan_function(target)(spec)
-            _check_spec(spec)
-            key = cache.clip_key(spec_fields(spec, plan.seed, plan.params), plan.hash_files)
+            key = cache.clip_key(spec_fields(spec, plan.seed, plan.params), cache.key_files(plan))
         except Exception as exc:
             text = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
-            results[i] = _failed(cache_dir, spec, f"{spec.kind} {spec.scenario!r}: {text}", notify)
+            label = spec.label or spec.scenario
+            results[i] = _failed(cache_dir, spec, f"{spec.kind} {label!r}: {text}", notify)
             continue
         meta = cache.load_entry(cache_dir, key)
         if meta is not None:
             cache.set_latest(cache_dir, spec.name, key)
-            results[i] = ClipResult(
-                spec.name,
-                True,
-                files=cache.entry_files(cache_dir, key),
-                meta={**meta, "name": spec.name, "key": key},
-            )
-            notify(ClipEvent(spec.name, "cached"))
+            results[i] = _hit(cache_dir, spec, key, meta)
+            notify(ClipEvent(spec.name, "cached", frames=meta.get("frames", 0)))
+            continue
+        remembered = None if retry_failed else cache.load_failure(cache_dir, key)
+        if remembered is not None:
+            error = f"{remembered} (remembered from an earlier build: --retry-failed runs it again)"
+            results[i] = _failed(cache_dir, spec, error, notify, remembered=True)
+            continue
+        if not render:
+            results[i] = _pending(cache_dir, spec)
             continue
         if key in followers:  # identical content under another name: render once
             followers[key].append((i, spec))
@@ -171,15 +194,162 @@ def render_clips(
         tmp = Path(tempfile.mkdtemp(prefix=f".tmp-{key}-", dir=cache_dir))
         tmp.chmod(0o755)
         length = spec.seconds if spec.seconds is not None else plan.duration
-        queue.append(_Job(i, spec, key, target, tmp, frames=round(length * spec.fps)))
-
-    if queue:
-        workers = max(1, min(jobs or os.cpu_count() or 1, len(queue)))
-        for job, outcome in _run_jobs(queue, workers, timeout, notify):
-            results[job.index] = done = _finish(cache_dir, job, outcome, notify)
-            for i, spec in followers[job.key]:
+        limit = spec.timeout if spec.timeout is not None else timeout
+        todo.append(
+            _Clip(i, spec, key, target, tmp, frame_count(length, spec.fps, spec.speed), limit)
+        )
+        notify(ClipEvent(spec.name, "queued", total=todo[-1].total))
+    if todo:
+        for clip in _render(todo, jobs, notify):
+            done = _finish(cache_dir, clip, notify)
+            results[clip.index] = done
+            for i, spec in followers[clip.key]:
                 results[i] = _share(cache_dir, spec, done, notify)
     return [r for r in results if r is not None]
+
+
+def _render(todo: list[_Clip], jobs: int | None, notify: Progress):
+    """Run every clip's jobs on a pool; yields each clip once its outcome is known."""
+    ids = iter(range(1, 1 << 62))
+    simulations = [
+        Job(next(ids), _payload(c, "simulate"), c.limit, owner=c)
+        for c in sorted(todo, key=lambda c: -c.total * c.spec.width * c.spec.height)
+    ]
+    ready: list[Job] = []  # encodes, then ranges
+    open_clips = set(todo)
+
+    def next_job(last: _Clip | None) -> Job | None:
+        if ready and ready[0].payload["phase"] == "encode":
+            return ready.pop(0)
+        if simulations:
+            job = simulations.pop(0)
+            job.owner.started = time.monotonic()
+            notify(ClipEvent(job.owner.spec.name, "started", total=job.owner.total))
+            return job
+        for job in ready:  # the ranges of the clip this worker drew last: its World is ready
+            if job.owner is last:
+                ready.remove(job)
+                return job
+        return ready.pop(0) if ready else None
+
+    def on_progress(job: Job) -> None:
+        clip: _Clip = job.owner
+        if job.payload["phase"] == "render":
+            clip.drawn[job.payload["start"]] = job.progress
+            _tell(clip, notify)
+
+    workers = max(1, min(jobs or os.cpu_count() or 1, sum(c.total for c in todo)))
+    log_dir = Path(tempfile.mkdtemp(prefix=".workers-", dir=todo[0].tmp.parent))
+    pool = Pool(workers, log_dir)
+    try:
+        for job, outcome in pool.run(next_job, lambda: bool(simulations or ready), on_progress):
+            clip: _Clip = job.owner
+            if clip not in open_clips:
+                continue
+            if not outcome.get("ok"):
+                error = str(outcome.get("error") or "failed")
+                label = _label(clip.spec)
+                clip.error = error if error.startswith(label) else f"{label} {error}"
+                ready[:] = [j for j in ready if j.owner is not clip]
+            else:
+                _advance(clip, job, outcome["result"], ready, ids, notify)
+            if clip.error is not None or clip.outcome is not None:
+                open_clips.discard(clip)
+                yield clip
+    finally:  # interrupted (Ctrl-C, an exception in a progress callback): leave no workers
+        pool.close()
+        shutil.rmtree(log_dir, ignore_errors=True)
+        for clip in open_clips:
+            shutil.rmtree(clip.tmp, ignore_errors=True)
+
+
+def _advance(clip: _Clip, job: Job, result: dict[str, Any], ready: list[Job], ids, notify) -> None:
+    """A job of ``clip`` succeeded: queue what it unlocks."""
+    phase = job.payload["phase"]
+    if phase == "simulate":
+        clip.meta = result
+        clip.total = result["frames"]
+        clip.starts = range_starts(clip.total, RANGE_FRAMES)
+        clip.phase = "rendering"
+        for start in clip.starts:
+            payload = _payload(clip, "render")
+            stop = min(start + RANGE_FRAMES, clip.total)
+            payload.update(start=start, stop=stop, follow=result["follow"])
+            ready.append(Job(next(ids), payload, clip.limit, owner=clip))
+        clip.running = len(clip.starts)
+        _tell(clip, notify)
+    elif phase == "render":
+        clip.drawn[job.payload["start"]] = result["frames"]
+        clip.renderers.add(result["renderer"])
+        clip.running -= 1
+        _tell(clip, notify)
+        if clip.running == 0:
+            clip.phase = "encoding"
+            payload = _payload(clip, "encode")
+            payload.update(
+                meta=clip.meta, starts=clip.starts, renderer="+".join(sorted(clip.renderers))
+            )
+            ready.insert(0, Job(next(ids), payload, clip.limit, owner=clip))
+            _tell(clip, notify)
+    else:
+        clip.outcome = result
+
+
+def _tell(clip: _Clip, notify: Progress) -> None:
+    notify(
+        ClipEvent(
+            clip.spec.name,
+            "progress",
+            seconds=time.monotonic() - clip.started,
+            frames=sum(clip.drawn.values()),
+            total=clip.total,
+            phase=clip.phase,
+        )
+    )
+
+
+def _payload(clip: _Clip, phase: str) -> dict[str, Any]:
+    return {
+        "phase": phase,
+        "spec": asdict(clip.spec),
+        "target": clip.target,
+        "out_dir": str(clip.tmp),
+    }
+
+
+def _label(spec: ClipSpec) -> str:
+    return f"{spec.kind} {spec.label or spec.scenario!r}"
+
+
+def _check_spec(spec: ClipSpec) -> None:
+    if spec.width < 16 or spec.height < 16 or spec.width % 2 or spec.height % 2:
+        raise ValueError(f"size {spec.width}x{spec.height}: need even sides of at least 16")
+    if spec.fps <= 0 or (spec.seconds is not None and spec.seconds <= 0):
+        raise ValueError("fps and seconds must be positive")
+    if not spec.speed >= 1:
+        raise ValueError(f"speed must be at least 1, not {spec.speed!r}")
+    if spec.timeout is not None and not spec.timeout > 0:
+        raise ValueError(f"timeout must be positive, not {spec.timeout!r}")
+
+
+def _hit(cache_dir: Path, spec: ClipSpec, key: str, meta: dict[str, Any]) -> ClipResult:
+    return ClipResult(
+        spec.name,
+        True,
+        files=cache.entry_files(cache_dir, key),
+        meta={**meta, "name": spec.name, "key": key},
+    )
+
+
+def _pending(cache_dir: Path, spec: ClipSpec) -> ClipResult:
+    """A clip left for a later build; shows the last good render of its name meanwhile."""
+    result = ClipResult(spec.name, False, pending=True)
+    old = cache.latest_key(cache_dir, spec.name)
+    meta = cache.load_entry(cache_dir, old) if old is not None else None
+    if old is not None and meta is not None:
+        result.files = cache.entry_files(cache_dir, old)
+        result.meta = {**meta, "name": spec.name, "key": old}
+    return result
 
 
 def _share(cache_dir: Path, spec: ClipSpec, done: ClipResult, notify: Progress) -> ClipResult:
@@ -188,126 +358,31 @@ def _share(cache_dir: Path, spec: ClipSpec, done: ClipResult, notify: Progress) 
         return _failed(cache_dir, spec, done.error or "failed", notify)
     key = done.meta["key"]
     cache.set_latest(cache_dir, spec.name, key)
-    notify(ClipEvent(spec.name, "cached"))
+    notify(ClipEvent(spec.name, "cached", frames=done.meta.get("frames", 0)))
     return ClipResult(
         spec.name, True, files=dict(done.files), meta={**done.meta, "name": spec.name}
     )
 
 
-def _check_spec(spec: ClipSpec) -> None:
-    if spec.width < 16 or spec.height < 16 or spec.width % 2 or spec.height % 2:
-        raise ValueError(f"size {spec.width}x{spec.height}: need even sides of at least 16")
-    if spec.fps <= 0 or (spec.seconds is not None and spec.seconds <= 0):
-        raise ValueError("fps and seconds must be positive")
-
-
-def _worker_env() -> dict[str, str]:
-    """The parent's import path, so registered source modules import in the worker too."""
-    env = dict(os.environ)
-    paths = [str(cache.ROOT_DIR)] + [p for p in sys.path if p and os.path.isdir(p)]
-    env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    return env
-
-
-def _run_jobs(
-    queue: list[_Job], workers: int, timeout: float, notify: Progress
-) -> Iterator[tuple[_Job, dict[str, Any]]]:
-    """Run jobs ``workers`` at a time; yields each as it ends with the worker's result dict."""
-    env = _worker_env()
-    pending = sorted(queue, key=lambda j: -j.frames * j.spec.width * j.spec.height)  # longest first
-    running: list[_Job] = []
-    try:
-        yield from _schedule(pending, running, workers, timeout, env, notify)
-    finally:  # interrupted (Ctrl-C, an exception in a progress callback): leave no workers
-        for job in running:
-            if job.process.poll() is None:
-                job.process.kill()
-                job.process.wait()
-            shutil.rmtree(job.tmp, ignore_errors=True)
-        for job in pending:
-            shutil.rmtree(job.tmp, ignore_errors=True)
-
-
-def _schedule(
-    pending: list[_Job],
-    running: list[_Job],
-    workers: int,
-    timeout: float,
-    env: dict[str, str],
-    notify: Progress,
-) -> Iterator[tuple[_Job, dict[str, Any]]]:
-    while pending or running:
-        while pending and len(running) < workers:
-            job = pending.pop(0)
-            payload = {
-                "spec": asdict(job.spec),
-                "target": job.target,
-                "out_dir": str(job.tmp),
-                "time_limit": timeout,
-            }
-            (job.tmp / JOB).write_text(json.dumps(payload), encoding="utf-8")
-            with open(job.tmp / LOG, "wb") as log:
-                job.process = subprocess.Popen(
-                    [sys.executable, "-m", "sims.clip_worker", str(job.tmp / JOB)],
-                    stdin=subprocess.DEVNULL,
-                    stdout=subprocess.DEVNULL,
-                    stderr=log,
-                    env=env,
-                )
-            job.started = time.monotonic()
-            running.append(job)
-            notify(ClipEvent(job.spec.name, "started"))
-        time.sleep(0.05)
-        for job in list(running):
-            overdue = time.monotonic() - job.started > timeout + min(KILL_GRACE, 1 + timeout / 2)
-            if job.process.poll() is None and not overdue:
-                continue
-            if job.process.poll() is None:
-                job.process.kill()
-            job.process.wait()
-            job.ended = time.monotonic()
-            running.remove(job)
-            yield job, _read_result(job, timeout, overdue)
-
-
-def _read_result(job: _Job, timeout: float, killed: bool) -> dict[str, Any]:
-    label = f"{job.spec.kind} {job.spec.scenario!r}"
-    try:
-        return json.loads((job.tmp / RESULT).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        if killed:
-            return {
-                "ok": False,
-                "error": f"{label} passed its time limit of {timeout:g} s (worker killed)",
-            }
-        lines = (job.tmp / LOG).read_text(encoding="utf-8", errors="replace").strip().splitlines()
-        last = f": {lines[-1]}" if lines else ""
-        return {
-            "ok": False,
-            "error": f"{label} crashed (worker exit code {job.process.returncode}){last}",
-        }
-
-
-def _finish(cache_dir: Path, job: _Job, outcome: dict[str, Any], notify: Progress) -> ClipResult:
-    elapsed = round(job.ended - job.started, 3)
-    if not outcome.get("ok"):
-        shutil.rmtree(job.tmp, ignore_errors=True)
-        result = _failed(
-            cache_dir, job.spec, outcome.get("error") or "unknown error", notify, seconds=elapsed
-        )
-        return result
-    for name in (RESULT, JOB, LOG):
-        (job.tmp / name).unlink(missing_ok=True)
-    cache.commit_entry(cache_dir, job.key, job.tmp)
-    cache.set_latest(cache_dir, job.spec.name, job.key)
-    notify(ClipEvent(job.spec.name, "done", elapsed))
+def _finish(cache_dir: Path, clip: _Clip, notify: Progress) -> ClipResult:
+    elapsed = round(time.monotonic() - clip.started, 3)
+    if clip.outcome is None:
+        shutil.rmtree(clip.tmp, ignore_errors=True)
+        error = clip.error or "unknown error"
+        cache.record_failure(cache_dir, clip.key, clip.spec.name, error)
+        return _failed(cache_dir, clip.spec, error, notify, seconds=elapsed)
+    cache.commit_entry(cache_dir, clip.key, clip.tmp)
+    cache.clear_failure(cache_dir, clip.key)
+    cache.set_latest(cache_dir, clip.spec.name, clip.key)
+    meta = clip.outcome
+    notify(ClipEvent(clip.spec.name, "done", elapsed, frames=meta["frames"], total=meta["frames"]))
     return ClipResult(
-        job.spec.name,
+        clip.spec.name,
         True,
         rendered=True,
         seconds=elapsed,
-        files=cache.entry_files(cache_dir, job.key),
-        meta={**outcome["meta"], "name": job.spec.name, "key": job.key},
+        files=cache.entry_files(cache_dir, clip.key),
+        meta={**meta, "name": clip.spec.name, "key": clip.key},
     )
 
 
@@ -318,25 +393,15 @@ def _failed(
     notify: Progress,
     seconds: float = 0.0,
     keep_stale: bool = True,
+    remembered: bool = False,
 ) -> ClipResult:
     """A failed clip, carrying the previous good render of the same name when there is one."""
-    notify(ClipEvent(spec.name, "failed", seconds, error))
+    notify(ClipEvent(spec.name, "failed", seconds, error, remembered=remembered))
     old = cache.latest_key(cache_dir, spec.name) if keep_stale else None
-    if old is None:
-        return ClipResult(spec.name, False, error=error, seconds=seconds)
-    meta = cache.load_entry(cache_dir, old) or {}
-    return ClipResult(
-        spec.name,
-        False,
-        error=error,
-        stale=True,
-        seconds=seconds,
-        files=cache.entry_files(cache_dir, old),
-        meta={**meta, "name": spec.name, "key": old},
-    )
-
-
-if __name__ == "__main__":  # pragma: no cover - convenience: python -m sims.clips NAME...
-    from sims.cli import main
-
-    sys.exit(main(["render", *sys.argv[1:]]))
+    result = ClipResult(spec.name, False, error=error, seconds=seconds, remembered=remembered)
+    if old is not None:
+        meta = cache.load_entry(cache_dir, old) or {}
+        result.stale = True
+        result.files = cache.entry_files(cache_dir, old)
+        result.meta = {**meta, "name": spec.name, "key": old}
+    return result

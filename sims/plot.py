@@ -62,7 +62,8 @@ def path_svg(
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" '
         f'viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="11">',
         f'<rect x="0" y="0" width="{WIDTH}" height="{HEIGHT}" fill="#ffffff"/>',
-        f'<text x="{WIDTH / 2:.1f}" y="20" text-anchor="middle" font-size="13">{escape(title)}</text>',
+        f'<text x="{WIDTH / 2:.1f}" y="20" text-anchor="middle" font-size="13">'
+        f"{escape(title)}</text>",
     ]
     step = nice_step(span)
     for t in _ticks(xlo, xhi, step):
@@ -70,11 +71,13 @@ def path_svg(
             f'<line x1="{sx(t):.1f}" y1="{TOP}" x2="{sx(t):.1f}" y2="{TOP + ph}" stroke="#e5e5e5"/>'
         )
         out.append(
-            f'<text x="{sx(t):.1f}" y="{TOP + ph + 15}" text-anchor="middle">{_label(t, step)}</text>'
+            f'<text x="{sx(t):.1f}" y="{TOP + ph + 15}" text-anchor="middle">'
+            f"{_label(t, step)}</text>"
         )
     for t in _ticks(ylo, yhi, step):
         out.append(
-            f'<line x1="{LEFT}" y1="{sy(t):.1f}" x2="{LEFT + pw}" y2="{sy(t):.1f}" stroke="#e5e5e5"/>'
+            f'<line x1="{LEFT}" y1="{sy(t):.1f}" x2="{LEFT + pw}" y2="{sy(t):.1f}" '
+            'stroke="#e5e5e5"/>'
         )
         out.append(
             f'<text x="{LEFT - 6}" y="{sy(t) + 4:.1f}" text-anchor="end">{_label(t, step)}</text>'

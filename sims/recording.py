@@ -7,8 +7,9 @@ physics steps since recording began, so it keeps running across ``World.reset()`
 
 Once ``frames`` samples are taken, a step past the clip's end time (``frames / fps``) raises
 :class:`StopRecording`, which ends the driving code wherever it is (so a driver that stops
-exactly at the end still gets to note its final readings); a wall-clock ``deadline`` raises :class:`RecordingTimeout`. Both
-derive from BaseException so a scenario's ``except Exception`` cannot swallow them.
+exactly at the end still gets to note its final readings); a wall-clock ``deadline`` raises
+:class:`RecordingTimeout`. Both derive from BaseException so a scenario's ``except Exception``
+cannot swallow them.
 """
 
 from __future__ import annotations
@@ -18,14 +19,35 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from sims.world import World
 
-if TYPE_CHECKING:
-    from sims.sources import RecordingPlan
-
 FrameSink = Callable[[World], None]
+
+
+@dataclass
+class RecordingPlan:
+    """Everything needed to key, run and describe one clip; built in parent and worker alike.
+
+    ``hash_files`` are the files whose bytes identify this source's behaviour (the scenario
+    file, a course script...); the engine's own files are added by sims.cache.
+    ``drive(world, record)`` runs inside a started Recorder and may simply return early.
+    """
+
+    scene: str
+    seed: int
+    duration: float
+    description: str
+    source_path: str
+    params: dict[str, Any]
+    hash_files: list[str]
+    drive: Callable[[World, Recorder], None]
+    scene_options: dict[str, Any] = field(default_factory=dict)
+    follow: str | None = None
+    joints: tuple[str, ...] = ()
+    joint_quantity: str = "angle"
+    extra_columns: tuple[str, ...] = ()
 
 
 class StopRecording(BaseException):
@@ -105,7 +127,11 @@ class Recorder:
         extra_columns: tuple[str, ...] = (),
         on_frame: FrameSink | None = None,
         deadline: float | None = None,
+        film_every: float = 1.0,
     ):
+        """``film_every``: a time-lapse films every n-th sample (``speed``), data keep all."""
+        if film_every < 1:
+            raise ValueError(f"speed must be at least 1, not {film_every!r}")
         if quantity not in ("angle", "speed"):
             raise ValueError(f"quantity must be 'angle' or 'speed', not {quantity!r}")
         self.world = world
@@ -116,6 +142,8 @@ class Recorder:
         self.quantity = quantity
         self.on_frame = on_frame
         self.deadline = deadline
+        self.film_every = film_every
+        self.filmed = 0
         unit = "_deg" if quantity == "angle" else "_rad_s"
         columns = ["t", "x", "y", "z", "alpha_deg", "beta_deg", "gamma_deg", "heading_deg"]
         columns += [j + unit for j in joints]
@@ -188,8 +216,10 @@ class Recorder:
             )
         row += list(self._extra.values())
         self.recording.rows.append(row)
-        if self.on_frame is not None:
-            self.on_frame(w)
+        if self.taken - 1 == round(self.filmed * self.film_every):
+            self.filmed += 1
+            if self.on_frame is not None:
+                self.on_frame(w)
         n = self.taken
         self._next_frame = round(n / (self.fps * w.timestep))
         if n >= self.frames:
@@ -214,23 +244,41 @@ def record(
     on_frame: FrameSink | None = None,
     deadline: float | None = None,
     render_with: str | None = None,
+    speed: float = 1.0,
 ) -> tuple[Recording, str]:
     """Run ``plan`` in a fresh World for ``seconds`` (default: its duration) at ``fps``.
 
     The one place a plan meets a World: clips (with ``on_frame`` filming) and run_scenario
     (data only) both come through here. Returns the samples and the renderer that ran.
+    ``speed``: time-lapse factor; samples stay at ``fps``, ``on_frame`` sees every
+    ``speed``-th one (:func:`frame_count` of them).
     """
     length = plan.duration if seconds is None else seconds
     with World(plan.scene, seed=plan.seed, render_with=render_with, **plan.scene_options) as world:
         recorder = Recorder(
             world,
             fps=fps,
-            frames=max(1, round(length * fps)),
+            frames=sample_count(length, fps),
             follow=plan.follow,
             joints=plan.joints,
             quantity=plan.joint_quantity,
             extra_columns=plan.extra_columns,
             on_frame=on_frame,
             deadline=deadline,
+            film_every=speed,
         )
         return drive(world, recorder, plan.drive), world.renderer
+
+
+def sample_count(seconds: float, fps: float) -> int:
+    """Data samples (CSV rows) of a clip ``seconds`` long: one every ``1/fps`` simulated s."""
+    return max(1, round(seconds * fps))
+
+
+def frame_count(seconds: float, fps: float, speed: float = 1.0) -> int:
+    """Video frames of a clip: samples 0, speed, 2·speed... (rounded) of ``sample_count``."""
+    samples = sample_count(seconds, fps)
+    frames = 0
+    while round(frames * speed) < samples:
+        frames += 1
+    return frames

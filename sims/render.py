@@ -5,7 +5,7 @@ without a GPU); TinyRenderer is pybullet's built-in CPU rasteriser. EGL is used 
 asked for (``World(render_with="egl"|"auto")``; the clip worker passes ``SIMS_RENDERER``); any
 failure (no plugin, no EGL display, a blank first frame) falls back to TinyRenderer, and
 ``Renderer.name`` / ``World.renderer`` say which one ran. The default
-is decided in ``DEFAULT_RENDERER`` from measurements recorded in docs/README-sims.md.
+is decided in ``DEFAULT_RENDERER`` from measurements recorded in docs/sims.md.
 """
 
 from __future__ import annotations
@@ -13,22 +13,44 @@ from __future__ import annotations
 import os
 import pkgutil
 import weakref
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import numpy as np
 
 from sims.quiet import pybullet as p
 from sims.quiet import quiet_fd
 
-if TYPE_CHECKING:
-    from sims.world import World
 
-DEFAULT_RENDERER = "auto"  # EGL if it works, else TinyRenderer; see docs/README-sims.md
+class World(Protocol):
+    """What a Renderer reads of ``sims.world.World`` (which creates it: a Protocol, so
+    that this module does not import the world back)."""
+
+    client_id: int
+    model: Any
+    _client: int | None
+
+    def object_pose(self, handle: Any) -> tuple: ...
+
+
+DEFAULT_RENDERER = "auto"  # EGL if it works, else TinyRenderer; see docs/sims.md
 FOV_DEG, NEAR, FAR = 50.0, 0.01, 20.0
 LIGHT_DIRECTION = (0.4, -0.6, 1.0)
 # The EGL plugin keeps process-wide state: a second World loading it makes the first one's
 # frames wrong (measured), so only one live World per process may use EGL; others fall back.
 _egl_owner: weakref.ref[Renderer] | None = None
+
+
+Matrices = tuple[list[float], list[float]]  # pybullet's view and projection matrices
+
+
+def chase_camera(world: World, width: int, height: int, follow: str) -> Matrices:
+    """The chase camera's matrices: the scene's camera offset, looking at ``follow``."""
+    cam = world.model.camera
+    pos, _ = world.object_pose(follow)
+    target = (pos[0], pos[1], cam.target_z)
+    view = p.computeViewMatrixFromYawPitchRoll(target, cam.distance, cam.yaw, cam.pitch, 0.0, 2)
+    proj = p.computeProjectionMatrixFOV(FOV_DEG, width / height, NEAR, FAR)
+    return view, proj
 
 
 def requested_renderer() -> str:
@@ -87,6 +109,11 @@ class Renderer:
             self.name = "tinyrenderer"
             self.fallback_reason = "EGL rendered a blank frame"
 
+    def new_sequence(self) -> None:
+        """The next frame starts a run of frames rendered in order (a clip's frame range): it
+        is drawn twice under EGL, so it never depends on what this process drew before."""
+        self._last_size = None
+
     def scene_rebuilt(self) -> None:
         """Called after World.reset(): the plugin survives resetSimulation and sees the rebuild."""
 
@@ -99,13 +126,12 @@ class Renderer:
             _egl_owner = None
         self._plugin = -1
 
-    def render(self, width: int, height: int, follow: str) -> np.ndarray:
+    def render(
+        self, width: int, height: int, follow: str, camera: Matrices | None = None
+    ) -> np.ndarray:
+        """A frame from the chase camera on ``follow``, or from ``camera`` (view, projection)."""
         world = self.world
-        cam = world.model.camera
-        pos, _ = world.object_pose(follow)
-        target = (pos[0], pos[1], cam.target_z)
-        view = p.computeViewMatrixFromYawPitchRoll(target, cam.distance, cam.yaw, cam.pitch, 0.0, 2)
-        proj = p.computeProjectionMatrixFOV(FOV_DEG, width / height, NEAR, FAR)
+        view, proj = camera or chase_camera(world, width, height, follow)
         engine = p.ER_BULLET_HARDWARE_OPENGL if self.name == "egl" else p.ER_TINY_RENDERER
         # EGL's first frame at a new size differs from the following ones (measured; the
         # shadow pass lags a frame), so that frame is drawn twice to keep clips uniform.

@@ -75,12 +75,39 @@ class WebmWriter:
             self._writer = None
             if self._error is not None:
                 raise VideoError(f"encoding {self.path.name} failed: {self._error}")
+            fix_track_uid(self.path)
 
     def __enter__(self) -> WebmWriter:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+# EBML ids (with their one-byte size 8) of the Matroska elements that carry the track's UID.
+_UID_ELEMENTS = (b"\x73\xc5\x88", b"\x63\xc5\x88")  # TrackUID, TagTrackUID
+_CLUSTER = b"\x1f\x43\xb6\x75"
+FIXED_TRACK_UID = (1).to_bytes(8, "big")
+
+
+def fix_track_uid(path: Path) -> None:
+    """Replace the random track UID FFmpeg's Matroska muxer picks with 1, in place.
+
+    The muxer draws the UID from a random seed unless it runs in bit-exact mode, which OpenCV's
+    writer does not expose; it is the only thing that differs between two encodings of the same
+    frames (measured), so the same clip becomes the same bytes. Only the header before the first
+    Cluster is touched, and only at the TrackUID and TagTrackUID elements (same length).
+    """
+    with open(path, "r+b") as f:
+        head = f.read(1 << 16)
+        end = head.find(_CLUSTER)
+        head = head[: end if end > 0 else len(head)]
+        for marker in _UID_ELEMENTS:
+            start = 0
+            while (at := head.find(marker, start)) >= 0:
+                f.seek(at + len(marker))
+                f.write(FIXED_TRACK_UID)
+                start = at + len(marker) + 8
 
 
 @dataclass(frozen=True)

@@ -5,23 +5,52 @@ everything goes through names and stable integer handles, never raw pybullet ids
 pybullet call passes ``physicsClientId`` so several Worlds in one process stay independent.
 Joint angles are reported and commanded in CoppeliaSim's convention for that joint (the model's
 ``JointRef`` holds the mapping). ``reset()`` rebuilds the scene like CoppeliaSim's stop/start.
+
+A World holds a bundled scene (``"2w1a"``, ``"cart"``), a scene file (a ``.ttt`` or
+``.simscene.xml`` path) or a loaded :class:`sims.scene.model.Scene`; ``tree()`` lists every object
+(handle, name, alias, parent, kind) and ``find()`` resolves names and 4.x object paths.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from sims.models import build_scene
-from sims.models.common import JointRef, ObjectRef, RaySensor, SceneModel
+from sims.models.common import JointRef, ObjectRef, ProxSensor, RaySensor, SceneModel
 from sims.quiet import pybullet as p
 
 Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
 StepHook = Callable[["World"], None]
 GRAVITY = -9.81
+#: A bundled ray fan looks along its link's +x; its CoppeliaSim frame has z there (x_s = y_link,
+#: y_s = z_link, z_s = x_link).
+LEGACY_SENSOR_ORN = (0.5, 0.5, 0.5, 0.5)
+HOLD_FORCE = 1e4  # N or N·m: a kinematic (passive-mode) joint is held where it is set
+
+
+@dataclass(frozen=True)
+class TreeEntry:
+    """One object of the World's scene tree. ``parent`` is the parent's handle (None at the
+    top); ``kind`` is "shape", "joint", "dummy", "proximity_sensor", "vision_sensor"... as in
+    sims.scene.model; ``alias`` is the 4.x alias ("" when the scene has none)."""
+
+    handle: int
+    name: str
+    alias: str
+    parent: int | None
+    kind: str
+
+
+def _scene_label(scene: Any) -> str:
+    if isinstance(scene, (str, Path)):
+        return str(scene)
+    return str(getattr(scene, "source", "") or "scene")
 
 
 class World:
@@ -29,7 +58,7 @@ class World:
 
     def __init__(
         self,
-        scene: str,
+        scene: Any,
         seed: int = 0,
         timestep: float = 0.005,
         *,
@@ -38,8 +67,14 @@ class World:
     ):
         """``render_with``: "egl" or "auto" loads pybullet's EGL renderer plugin *before* the
         scene is built (the plugin only sees shapes created after it loads), falling back to
-        TinyRenderer if it fails; None/"tinyrenderer" uses TinyRenderer."""
-        self.scene = scene
+        TinyRenderer if it fails; None/"tinyrenderer" uses TinyRenderer.
+
+        ``scene``: a bundled scene name, a scene file path or a loaded Scene model; a file is
+        read once (``reset()`` rebuilds from the loaded model)."""
+        from sims.scene.resolve import open_scene
+
+        self.source = open_scene(scene) if isinstance(scene, (str, Path)) else scene
+        self.scene = scene if isinstance(scene, str) else _scene_label(scene)
         self.seed = seed
         self.timestep = timestep
         self.scene_options = dict(scene_options)
@@ -55,6 +90,7 @@ class World:
         try:
             self._build()
             if self._renderer is not None:
+                self.sync_visuals()  # a scene file's looks, before the renderer's first frame
                 self._renderer.verify()
         except BaseException:
             self.close()  # an unknown scene or bad option must not leak the pybullet client
@@ -67,15 +103,24 @@ class World:
         p.setGravity(0, 0, GRAVITY, physicsClientId=c)
         p.setTimeStep(self.timestep, physicsClientId=c)
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
-        self.model: SceneModel = build_scene(self.scene, c, self.seed, **self.scene_options)
-        names = [o.name for o in self.model.objects] + [j.name for j in self.model.joints]
-        names += [s.name for s in self.model.sensors]
-        self._names = names
-        self._handles = {name: i + 1 for i, name in enumerate(names)}  # 0 means "not found"
+        if isinstance(self.source, str):
+            self.model: SceneModel = build_scene(self.source, c, self.seed, **self.scene_options)
+        else:
+            from sims.scene.build import build
+
+            self.model = build(self.source, c, self.seed, **self.scene_options)
         self._objects: dict[str, ObjectRef] = {o.name: o for o in self.model.objects}
         self._joints: dict[str, JointRef] = {j.name: j for j in self.model.joints}
-        self._sensors: dict[str, RaySensor] = {s.name: s for s in self.model.sensors}
+        self._sensors: dict[str, ProxSensor] = {s.name: s for s in self.model.prox}
+        for legacy in self.model.sensors:
+            self._sensors[legacy.name] = _from_fan(legacy)
+        self._ray_ends: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # sensor frame, per sensor
+        self._tree = self._make_tree()
+        self._names = [e.name for e in self._tree]
+        self._handles = {e.name: e.handle for e in self._tree}  # 0 means "not found"
         self._inertial: dict[int, Pose] = {}
+        self._springs: dict[str, float] = {}  # spring-damper joints: rest position
+        self._commands: dict[str, tuple[str, float]] = {}  # last motor command per joint
         for j in self.model.joints:
             self._init_motor(j)
         self.time = 0.0
@@ -121,6 +166,8 @@ class World:
     # -- time --------------------------------------------------------------------------------
     def step(self, n: int = 1) -> None:
         for _ in range(n):
+            if self._springs:
+                self._apply_springs()
             p.stepSimulation(physicsClientId=self._cid)
             self.steps += 1
             self.time = self.steps * self.timestep
@@ -136,6 +183,71 @@ class World:
         return lambda: self._hooks.remove(hook) if hook in self._hooks else None
 
     # -- names -------------------------------------------------------------------------------
+    def _make_tree(self) -> list[TreeEntry]:
+        """Handle = position + 1. Bundled scenes: objects, joints, then sensors, their parents
+        following the pybullet link chain (a link's object under the joint that moves it)."""
+        nodes = self.model.tree
+        if nodes:
+            index = {n.name: i + 1 for i, n in enumerate(nodes)}
+            return [
+                TreeEntry(i + 1, n.name, n.alias, index.get(n.parent or ""), n.kind)
+                for i, n in enumerate(nodes)
+            ]
+        m = self.model
+        kinds = [(o.name, "shape") for o in m.objects] + [(j.name, "joint") for j in m.joints]
+        kinds += [(s.name, "proximity_sensor") for s in m.sensors]
+        index = {name: i + 1 for i, (name, _) in enumerate(kinds)}
+        at_link = {(o.body, o.link): o.name for o in m.objects}
+        joint_at = {(j.body, j.index): j.name for j in m.joints}
+
+        def object_at(body: int, link: int) -> str | None:
+            while (body, link) not in at_link and link >= 0:
+                link = p.getJointInfo(body, link, physicsClientId=self._cid)[16]
+            return at_link.get((body, link))
+
+        def parent_link(body: int, link: int) -> int:
+            return p.getJointInfo(body, link, physicsClientId=self._cid)[16]
+
+        parents: dict[str, str | None] = {}
+        for o in m.objects:
+            if o.link < 0:
+                parents[o.name] = None
+            else:
+                parents[o.name] = joint_at.get((o.body, o.link)) or object_at(
+                    o.body, parent_link(o.body, o.link)
+                )
+        for j in m.joints:
+            parents[j.name] = object_at(j.body, parent_link(j.body, j.index))
+        for sensor in m.sensors:
+            parents[sensor.name] = object_at(sensor.body, sensor.link)
+        return [
+            TreeEntry(index[name], name, "", index.get(parents[name] or ""), kind)
+            for name, kind in kinds
+        ]
+
+    def tree(self) -> list[TreeEntry]:
+        """Every object of the scene, in handle order."""
+        return list(self._tree)
+
+    def find(self, path_or_name: str, relative_to: int | None = None) -> int | None:
+        """Handle of an old-style name (``name``, ``name#0``) or a 4.x path (``/robot/joint``,
+        ``/robot/joint[0]``, ``./child`` from ``relative_to``); None when nothing matches."""
+        from sims.scene.paths import resolve
+
+        return resolve(self._tree, str(path_or_name), relative_to)
+
+    def kind(self, handle: int | str) -> str:
+        return self._tree[self.handle_of(handle) - 1].kind
+
+    def parent(self, handle: int | str) -> int | None:
+        return self._tree[self.handle_of(handle) - 1].parent
+
+    def handle_of(self, handle: int | str) -> int:
+        h = self._handles.get(handle) if isinstance(handle, str) else handle
+        if not isinstance(h, int) or not 1 <= h <= len(self._tree):
+            raise KeyError(f"no object with handle {handle!r} in scene {self.scene!r}")
+        return h
+
     def names(self) -> list[str]:
         return list(self._names)
 
@@ -166,10 +278,18 @@ class World:
         name = self._lookup(handle)
         if name in self._joints:
             j = self._joints[name]
-            ref = ObjectRef(name, j.body, j.index)
-        elif name in self._sensors:
+            pos, orn = self._link_frame(j.body, j.index)
+            if j.own_frame and j.kind != "spherical":
+                q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
+                if j.kind == "prismatic":
+                    back = ((0.0, 0.0, -q), (0.0, 0.0, 0.0, 1.0))
+                else:
+                    back = ((0.0, 0.0, 0.0), (0.0, 0.0, math.sin(-q / 2), math.cos(-q / 2)))
+                pos, orn = p.multiplyTransforms(pos, orn, *back)
+            return tuple(pos), tuple(orn)  # type: ignore[return-value]
+        if name in self._sensors:
             s = self._sensors[name]
-            ref = ObjectRef(name, s.body, s.link, offset_pos=s.origin)
+            ref = ObjectRef(name, s.body, s.link, s.offset_pos, s.offset_orn)
         else:
             ref = self._objects[name]
         pos, orn = self._link_frame(ref.body, ref.link)
@@ -178,6 +298,8 @@ class World:
 
     def _link_frame(self, body: int, link: int) -> Pose:
         c = self._cid
+        if body < 0:  # a frame fixed in the world
+            return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
         if link >= 0:
             state = p.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=c)
             return state[4], state[5]
@@ -189,7 +311,8 @@ class World:
         return p.multiplyTransforms(com_pos, com_orn, inv_pos, inv_orn)
 
     def object_orientation(self, handle: int | str) -> tuple[float, float, float]:
-        """CoppeliaSim Euler angles (alpha, beta, gamma) in rad: R = Rx(alpha)·Ry(beta)·Rz(gamma)."""
+        """CoppeliaSim Euler angles (alpha, beta, gamma) in rad: R =
+        Rx(alpha)·Ry(beta)·Rz(gamma)."""
         m = p.getMatrixFromQuaternion(self.object_pose(handle)[1])  # row-major 3x3
         beta = math.asin(max(-1.0, min(1.0, m[2])))
         return math.atan2(-m[5], m[8]), beta, math.atan2(-m[1], m[0])
@@ -206,18 +329,29 @@ class World:
     # -- joints ------------------------------------------------------------------------------
     def joint_position(self, handle: int | str) -> float:
         j = self._joint(handle)
+        if j.kind == "spherical":
+            return 0.0
         q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
         return j.zero + j.sign * q
 
     def joint_velocity(self, handle: int | str) -> float:
         j = self._joint(handle)
+        if j.kind == "spherical":
+            return 0.0
         return j.sign * p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
 
     def set_joint_target_position(self, handle: int | str, rad: float) -> None:
-        """Position control, clamped to the joint's CoppeliaSim range."""
+        """Position control, clamped to the joint's CoppeliaSim range. A spring-damper joint
+        takes the target as its spring's rest position."""
         j = self._joint(handle)
+        if j.kind == "spherical":
+            return
         if j.lower is not None and j.upper is not None:
             rad = min(max(rad, j.lower), j.upper)
+        if j.mode == "spring":
+            self._springs[j.name] = rad
+            return
+        self._commands[j.name] = ("position", rad)
         kw: dict[str, float] = {}
         if j.max_velocity is not None:
             kw["maxVelocity"] = j.max_velocity
@@ -226,7 +360,7 @@ class World:
             j.index,
             p.POSITION_CONTROL,
             targetPosition=(rad - j.zero) * j.sign,
-            force=j.max_force,
+            force=HOLD_FORCE if j.mode == "hold" else j.max_force,
             positionGain=j.position_gain,
             velocityGain=j.velocity_gain,
             physicsClientId=self._cid,
@@ -240,6 +374,10 @@ class World:
         until the next set_joint_target_position; CoppeliaSim would instead keep position
         control and ignore the velocity. Scripts in the course never do this."""
         j = self._joint(handle)
+        if j.kind == "spherical":
+            return
+        self._springs.pop(j.name, None)
+        self._commands[j.name] = ("velocity", rad_s)
         p.setJointMotorControl2(
             j.body,
             j.index,
@@ -249,18 +387,59 @@ class World:
             physicsClientId=self._cid,
         )
 
+    def set_joint_max_force(self, handle: int | str, force: float) -> None:
+        """The motor's force/torque limit (CoppeliaSim's setJointMaxForce); the motor keeps
+        its mode and its last target."""
+        import dataclasses
+
+        j = self._joint(handle)
+        new = dataclasses.replace(j, max_force=force)
+        self._joints[j.name] = new
+        self.model.joints[self.model.joints.index(j)] = new
+        kind, value = self._commands.get(j.name, (None, 0.0))
+        if kind == "velocity":
+            self.set_joint_target_velocity(j.name, value)
+        elif kind == "position":
+            self.set_joint_target_position(j.name, value)
+
+    def set_joint_position(self, handle: int | str, rad: float) -> None:
+        """Put a joint at ``rad`` at once (CoppeliaSim's setJointPosition). A passive-mode
+        joint stays there; a motor keeps its own target."""
+        j = self._joint(handle)
+        if j.kind == "spherical":
+            return
+        p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
+        if j.mode == "hold":
+            self.set_joint_target_position(j.name, rad)
+
     def _init_motor(self, j: JointRef) -> None:
         c = self._cid
+        if j.kind == "spherical":  # free, or held where it is (pybullet's default motor off)
+            quat = p.getJointStateMultiDof(j.body, j.index, physicsClientId=c)[0]
+            force = HOLD_FORCE if j.mode == "hold" else 0.0
+            p.setJointMotorControlMultiDof(
+                j.body,
+                j.index,
+                p.POSITION_CONTROL,
+                targetPosition=list(quat),
+                targetVelocity=[0.0, 0.0, 0.0],
+                force=[force] * 3,
+                physicsClientId=c,
+            )
+            return
         if j.lower is not None and j.upper is not None:
             a, b = sorted(((j.lower - j.zero) * j.sign, (j.upper - j.zero) * j.sign))
             p.changeDynamics(
                 j.body, j.index, jointLowerLimit=a, jointUpperLimit=b, physicsClientId=c
             )
-        if j.mode == "position":
-            self.set_joint_target_position(j.name, j.zero)
+        if j.mode in ("position", "hold"):
+            target = j.zero if j.initial_target is None else j.initial_target
+            if j.mode == "hold":
+                target = self.joint_position(j.name)
+            self.set_joint_target_position(j.name, target)
         elif j.mode == "velocity":
-            self.set_joint_target_velocity(j.name, 0.0)
-        else:  # free: pybullet's default velocity motor replaced by a small friction torque
+            self.set_joint_target_velocity(j.name, j.initial_velocity)
+        else:  # free or spring: pybullet's default velocity motor replaced by a friction torque
             p.setJointMotorControl2(
                 j.body,
                 j.index,
@@ -269,21 +448,76 @@ class World:
                 force=j.friction_torque,
                 physicsClientId=c,
             )
+            if j.mode == "spring":
+                self._springs[j.name] = j.zero if j.initial_target is None else j.initial_target
+
+    def _apply_springs(self) -> None:
+        """Spring-damper joints: torque = -k (q - rest) - c dq/dt, capped at the max force."""
+        for name, rest in self._springs.items():
+            j = self._joints[name]
+            q, dq = p.getJointState(j.body, j.index, physicsClientId=self._cid)[:2]
+            error = rest - (j.zero + j.sign * q)
+            torque = j.spring_k * error - j.spring_c * j.sign * dq
+            torque = max(-j.max_force, min(j.max_force, torque)) if j.max_force > 0 else torque
+            p.setJointMotorControl2(
+                j.body,
+                j.index,
+                p.TORQUE_CONTROL,
+                force=torque * j.sign,
+                physicsClientId=self._cid,
+            )
 
     # -- sensors and contacts ----------------------------------------------------------------
+    def sensor_hits(self, name: str) -> list[tuple[float, tuple, tuple, int, int] | None]:
+        """Each ray of a proximity sensor: None, or (distance from the sensor origin, point and
+        normal in the sensor frame, body, link). The sensor frame's z is its sensing axis."""
+        out: list[tuple[float, tuple, tuple, int, int] | None] = []
+        origin, rot, hits = self._cast(name)
+        for h in hits:
+            out.append(None if h[0] < 0 else _hit_in_frame(h, origin, rot))
+        return out
+
+    def nearest_hit(self, name: str) -> tuple[float, tuple, tuple, int, int] | None:
+        """The nearest of ``sensor_hits`` (the first of equals), what a proximity sensor
+        reports, without bringing every other ray's hit into the sensor frame."""
+        origin, rot, hits = self._cast(name)
+        ox, oy, oz = origin
+        best = None
+        best_d2 = math.inf
+        for h in hits:
+            if h[0] < 0:
+                continue
+            x, y, z = h[3]
+            d2 = (x - ox) * (x - ox) + (y - oy) * (y - oy) + (z - oz) * (z - oz)
+            if d2 < best_d2:
+                best, best_d2 = h, d2
+        return None if best is None else _hit_in_frame(best, origin, rot)
+
+    def _cast(self, name: str) -> tuple[tuple, tuple, Any]:
+        """Cast a sensor's rays in one batch: (origin, row-major rotation, pybullet hits).
+
+        The rays go into the world with one matrix product per read rather than two pybullet
+        transforms per ray: scripts poll their sonars every step (bench/lua_bench.py). This is
+        also more exact: pybullet's multiplyTransforms returns single-precision results.
+        """
+        name = self._lookup(name)
+        ends = self._ray_ends.get(name)
+        if ends is None:
+            rays = self._sensors[name].rays
+            ends = (np.array([a for a, _ in rays], float), np.array([b for _, b in rays], float))
+            self._ray_ends[name] = ends
+        origin, orn = self.object_pose(name)
+        rot = p.getMatrixFromQuaternion(orn)  # double precision, row-major
+        m = np.array(rot, float).reshape(3, 3).T
+        o = np.array(origin, float)
+        starts = (ends[0] @ m + o).tolist()
+        tips = (ends[1] @ m + o).tolist()
+        return origin, rot, p.rayTestBatch(starts, tips, physicsClientId=self._cid)
+
     def proximity_scan(self, name: str) -> list[float | None]:
-        """Distances (m) along each ray of a proximity sensor, left to right; None = nothing."""
-        s = self._sensors[self._lookup(name)]
-        pos, orn = self._link_frame(s.body, s.link)
-        starts, ends = [], []
-        for direction in s.rays():
-            start, _ = p.multiplyTransforms(pos, orn, s.origin, (0, 0, 0, 1))
-            tip = tuple(s.origin[k] + direction[k] * s.max_range for k in range(3))
-            end, _ = p.multiplyTransforms(pos, orn, tip, (0, 0, 0, 1))
-            starts.append(start)
-            ends.append(end)
-        hits = p.rayTestBatch(starts, ends, physicsClientId=self._cid)
-        return [None if h[0] < 0 else h[2] * s.max_range for h in hits]
+        """Distances (m) along each ray of a proximity sensor (a bundled fan: left to right);
+        None = nothing."""
+        return [None if h is None else h[0] for h in self.sensor_hits(name)]
 
     def proximity(self, name: str) -> float | None:
         """Nearest detected distance (m) of a proximity sensor, or None when nothing is in range."""
@@ -301,15 +535,52 @@ class World:
         return out
 
     # -- rendering ---------------------------------------------------------------------------
-    def render(self, width: int, height: int, follow: str | None = None) -> np.ndarray:
-        """HxWx3 uint8 RGB from a chase camera on ``follow`` (default: the scene's robot)."""
+    def render(
+        self, width: int, height: int, follow: str | None = None, camera: Any = None
+    ) -> np.ndarray:
+        """HxWx3 uint8 RGB from a chase camera on ``follow`` (default: the scene's robot), or
+        from ``camera``: (view, projection) matrices (sims.camera's fixed overview)."""
+        self.sync_visuals()
         if self._renderer is None:
             from sims.render import Renderer
 
             self._renderer = Renderer(self, prefer="tinyrenderer")
-        return self._renderer.render(width, height, follow or self.model.robot)
+        return self._renderer.render(width, height, follow or self.model.robot, camera)
+
+    def sync_visuals(self) -> None:
+        """Put a scene file's visual-only bodies on their links (done before drawing only)."""
+        c = self._cid
+        data = self.model.data
+        if "looks" in data and "visuals" not in data:
+            from sims.scene.bodies import create_visuals
+
+            data["visuals"] = create_visuals(c, data["looks"])
+        for v in data.get("visuals", ()):
+            pos, orn = self._link_frame(v.body, v.link)
+            pos, orn = p.multiplyTransforms(pos, orn, *v.offset)
+            p.resetBasePositionAndOrientation(v.uid, pos, orn, physicsClientId=c)
 
     @property
     def renderer(self) -> str:
         """Which renderer ran (or will run): "egl" or "tinyrenderer"."""
         return "tinyrenderer" if self._renderer is None else self._renderer.name
+
+
+def _hit_in_frame(h: Any, origin: tuple, rot: tuple) -> tuple[float, tuple, tuple, int, int]:
+    """A pybullet ray hit as (distance from the sensor origin, point and normal in the sensor
+    frame, body, link); ``rot`` is the sensor's row-major rotation (its transpose maps back)."""
+    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+    dx, dy, dz = h[3][0] - origin[0], h[3][1] - origin[1], h[3][2] - origin[2]
+    nx, ny, nz = h[4]
+    point = (r0 * dx + r3 * dy + r6 * dz, r1 * dx + r4 * dy + r7 * dz, r2 * dx + r5 * dy + r8 * dz)
+    normal = (r0 * nx + r3 * ny + r6 * nz, r1 * nx + r4 * ny + r7 * nz, r2 * nx + r5 * ny + r8 * nz)
+    return math.sqrt(dx * dx + dy * dy + dz * dz), point, normal, h[0], h[1]
+
+
+def _from_fan(s: RaySensor) -> ProxSensor:
+    """A bundled ray fan as a sensor frame with z along the link's +x, rays in that frame."""
+    rays = []
+    for d in s.rays():  # link frame (x forward) -> sensor frame (z forward)
+        tip = (d[1] * s.max_range, d[2] * s.max_range, d[0] * s.max_range)
+        rays.append(((0.0, 0.0, 0.0), tip))
+    return ProxSensor(s.name, s.body, s.link, s.origin, LEGACY_SENSOR_ORN, tuple(rays))

@@ -17,7 +17,7 @@ from typing import Any
 
 from sitegen import __version__
 
-FORMAT = f"sitegen-cache-2-{__version__}"
+FORMAT = f"sitegen-cache-5-{__version__}"
 
 
 @dataclass
@@ -30,10 +30,12 @@ class State:
 
 @dataclass
 class Fragments:
-    markdown: dict[str, Any] = field(default_factory=dict)  # source key -> Rendered
-    pages: dict[str, tuple[str, str]] = field(
-        default_factory=dict
-    )  # url -> (context hash, output digest)
+    #: source key -> (ids, toc, directives); the HTML is in fragments.sqlite (fragment_store)
+    markdown: dict[str, Any] = field(default_factory=dict)
+    #: url -> (input key, context hash, output digest, diagnostics): see sitegen/page_jobs.py
+    pages: dict[str, tuple] = field(default_factory=dict)
+    #: name -> (inputs hash, {output path: digest}) for the site-wide files (build.SiteWide)
+    site_wide: dict[str, tuple] = field(default_factory=dict)
 
 
 class Cache:
@@ -70,10 +72,13 @@ class Cache:
             return Fragments()
 
     def save_fragments(self, frag: Fragments) -> None:
-        self._write(
-            self.dir / "fragments.pickle",
-            pickle.dumps((FORMAT, frag), protocol=pickle.HIGHEST_PROTOCOL),
-        )
+        """Pickled straight to the file: never a second copy of every fragment in memory."""
+        path = self.dir / "fragments.pickle"
+        self.dir.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+        with open(tmp, "wb") as fh:
+            pickle.dump((FORMAT, frag), fh, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(tmp, path)
 
     def _write(self, path: Path, data: bytes) -> None:
         self.dir.mkdir(parents=True, exist_ok=True)

@@ -1,27 +1,22 @@
 """``sitegen check``: verify a built site offline, as a browser would follow it.
 
 Every internal ``href``/``src``/``poster`` must name a file in the site, every ``#anchor`` an
-id on the target page; scripts, stylesheets, images and media must be served by the site
-itself (no CDN), since course sites are read on campus networks and from ``file://``.
+id on the target page. External URLs (a YouTube iframe, an image on another site) are
+checked for form only -- a scheme and a host, parsed with the same rule as the build
+(:func:`sitegen.links.external_problem`) -- and never fetched, so ``sitegen check`` and
+``sitegen build --strict`` agree. A protocol-relative ``//host/...`` URL is reported: from
+``file://`` it names a file (the build writes ``https://`` instead).
 """
 
 from __future__ import annotations
 
+import os
 import posixpath
 from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
-_ASSET_TAGS = {
-    ("script", "src"),
-    ("link", "href"),
-    ("img", "src"),
-    ("video", "src"),
-    ("video", "poster"),
-    ("source", "src"),
-    ("audio", "src"),
-    ("iframe", "src"),
-}
+from sitegen.links import external_problem
 
 
 class _Collector(HTMLParser):
@@ -55,9 +50,9 @@ def check_site(site_dir: Path) -> list[str]:
     site_dir = site_dir.resolve()
     if not site_dir.is_dir():
         return [f"{site_dir}: not a folder (build the site first)"]
-    pages = sorted(p for p in site_dir.rglob("*.html") if p.is_file())
+    problems: list[str] = _symlinks(site_dir)
+    pages = sorted(p for p in site_dir.rglob("*.html") if p.is_file() and not p.is_symlink())
     parsed = {p.relative_to(site_dir).as_posix(): _parse(p) for p in pages}
-    problems: list[str] = []
     for rel, c in parsed.items():
         if rel == "404.html":
             continue  # served at any depth by GitHub Pages; its links use <base href>
@@ -66,6 +61,19 @@ def check_site(site_dir: Path) -> list[str]:
             if problem:
                 problems.append(f"{rel}:{line}: {problem}")
     return problems
+
+
+def _symlinks(site_dir: Path) -> list[str]:
+    """Any symlink in a site is a problem: a Pages upload (or a web server) follows it and
+    publishes whatever it points to. ``sitegen build`` never writes one."""
+    found = []
+    for dirpath, dirnames, filenames in os.walk(site_dir):
+        for name in sorted(dirnames + filenames):
+            path = Path(dirpath) / name
+            if path.is_symlink():
+                rel = path.relative_to(site_dir).as_posix()
+                found.append(f"{rel}: is a symlink (to {os.readlink(path)}); publish files only")
+    return found
 
 
 def _check_ref(
@@ -77,12 +85,13 @@ def _check_ref(
     attr: str,
     url: str,
 ) -> str | None:
+    problem = external_problem(url)
+    if problem:
+        return f"<{tag} {attr}>: {problem}"
+    if url.startswith("//"):
+        return f"<{tag} {attr}> '{url}' is protocol-relative: from file:// it names a file"
     parts = urlsplit(url)
-    if parts.scheme or url.startswith("//"):
-        if (tag, attr) in _ASSET_TAGS and (
-            parts.scheme in ("http", "https") or url.startswith("//")
-        ):
-            return f"<{tag} {attr}> loads '{url}' from outside the site"
+    if parts.scheme:
         return None
     if not parts.path:
         if parts.fragment and unquote(parts.fragment) not in c.ids:

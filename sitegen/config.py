@@ -13,6 +13,8 @@ from typing import Any
 
 import yaml
 
+from located.yaml import MAX_BYTES, YamlError, compose, to_python
+from located.yamlwalk import ROOT, Walker
 from sitegen.errors import BuildError, Diagnostic
 
 CONFIG_NAME = "sitegen.yml"
@@ -30,6 +32,7 @@ class RosterConfig:
     section: str
     title: str
     weight: int = 0
+    layout: str = "auto"  # tab-separated rosters: auto, paired or ids (roster.load_roster)
 
 
 @dataclass(frozen=True)
@@ -43,6 +46,11 @@ class ClipConfig:
     seed: int | None = None
     seconds: float | None = None
     after: float | None = None
+    speed: float = 1.0  # time-lapse: 4 plays 80 simulated seconds in 20 s (docs/clips.md)
+    timeout: float | None = None  # wall-clock safety net for this clip (default sims.timeout)
+    camera: str = "follow"  # follow (chase camera) or overview (fixed, whole path; sims/camera.py)
+    trail: bool = False  # draw the path travelled so far on the floor
+    title: str | None = None  # gallery heading and caption link text (default: the name)
 
 
 @dataclass(frozen=True)
@@ -55,6 +63,23 @@ class SimsConfig:
     jobs: int | None = None
     timeout: float = 600.0
     clips: tuple[ClipConfig, ...] = ()
+
+
+@dataclass(frozen=True)
+class BlogConfig:
+    """The blog (sitegen/blog.py): dated posts in ``dir`` of the content folder."""
+
+    dir: str = "blog"
+    title: str = ""  # default: the interface's word for "Blog"
+    page_size: int = 10  # posts per index page
+
+
+@dataclass(frozen=True)
+class SlidesConfig:
+    """Slide decks (sitegen/slides.py): every page under ``dir`` is a deck, as is any page
+    with ``slides: true``."""
+
+    dir: str = "slides"
 
 
 @dataclass(frozen=True)
@@ -73,6 +98,8 @@ class Config:
     output_dir: Path = Path("site")
     rosters: tuple[RosterConfig, ...] = ()
     sims: SimsConfig | None = None
+    blog: BlogConfig = BlogConfig()
+    slides: SlidesConfig = SlidesConfig()
     source_file: Path | None = None
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
@@ -80,51 +107,9 @@ class Config:
 # ---------------------------------------------------------------- schema checking
 
 
-class _Checker:
-    """Walks a YAML node tree, checking keys and types, remembering line numbers."""
-
-    def __init__(self, file: str):
-        self.file = file
-        self.problems: list[Diagnostic] = []
-
-    def fail(self, node: yaml.Node | None, key: str, message: str) -> None:
-        line = node.start_mark.line + 1 if node is not None else None
-        self.problems.append(Diagnostic(self.file, line, key, message))
-
-    def mapping(self, node: yaml.Node, path: str, allowed: dict[str, str]) -> dict[str, yaml.Node]:
-        if not isinstance(node, yaml.MappingNode):
-            self.fail(node, path or "(top level)", "expected a mapping of keys to values")
-            return {}
-        out: dict[str, yaml.Node] = {}
-        for knode, vnode in node.value:
-            key = str(knode.value)
-            full = f"{path}.{key}" if path else key
-            if key not in allowed:
-                self.fail(knode, full, f"unknown key (allowed: {', '.join(sorted(allowed))})")
-            elif key in out:
-                self.fail(knode, full, "key given twice")
-            else:
-                out[key] = vnode
-        return out
-
-    def scalar(self, node: yaml.Node, key: str, kind: str) -> Any:
-        value = yaml.safe_load(yaml.serialize(node)) if node is not None else None
-        ok = {
-            "str": isinstance(value, str),
-            "int": isinstance(value, int) and not isinstance(value, bool),
-            "num": isinstance(value, (int, float)) and not isinstance(value, bool),
-            "bool": isinstance(value, bool),
-        }[kind]
-        if not ok:
-            names = {
-                "str": "a string",
-                "int": "a whole number",
-                "num": "a number",
-                "bool": "true or false",
-            }
-            self.fail(node, key, f"must be {names[kind]}, got {value!r}")
-            return None
-        return value
+# The shared line-numbered walker (``located.yamlwalk``, also used for rosters): it
+# reports wrong shapes and types, duplicate and unknown keys at their line.
+_Checker = Walker
 
 
 _TOP = {
@@ -139,7 +124,11 @@ _TOP = {
     "output_dir": "str",
     "rosters": "list",
     "sims": "map",
+    "blog": "map",
+    "slides": "map",
 }
+_BLOG = {"dir": "str", "title": "str", "page_size": "int"}
+_SLIDES = {"dir": "str"}
 _ROSTER = {
     "name": "str",
     "file": "str",
@@ -147,6 +136,7 @@ _ROSTER = {
     "section": "str",
     "title": "str",
     "weight": "int",
+    "layout": "str",
 }
 _SIMS = {
     "section": "str",
@@ -165,6 +155,11 @@ _CLIP = {
     "seed": "int",
     "seconds": "num",
     "after": "num",
+    "speed": "num",
+    "timeout": "num",
+    "camera": "str",
+    "trail": "bool",
+    "title": "str",
 }
 
 
@@ -174,7 +169,7 @@ def _values(ck: _Checker, nodes: dict[str, yaml.Node], schema: dict[str, str], p
         kind = schema[key]
         if kind in ("list", "map"):
             continue
-        value = ck.scalar(node, f"{prefix}{key}", kind)
+        value = ck.value(node, f"{prefix}{key}", kind)
         if value is not None:
             out[key] = value
     return out
@@ -191,17 +186,14 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     """Parse and validate config text; raise :class:`BuildError` listing every problem."""
     ck = _Checker(file)
     try:
-        node = yaml.compose(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line = mark.line + 1 if mark else None
+        node = compose(text, file)
+    except YamlError as exc:
         raise BuildError(
-            "invalid sitegen.yml",
-            [Diagnostic(file, line, "", f"not valid YAML: {getattr(exc, 'problem', exc)}")],
+            "invalid sitegen.yml", [Diagnostic(file, exc.line, "", exc.message)]
         ) from None
     if node is None:
         return Config(root=root, source_file=root / file)
-    top = ck.mapping(node, "", _TOP)
+    top = ck.keys(node, ROOT, _TOP)
     values = _values(ck, top, _TOP, "")
     kwargs: dict[str, Any] = {}
     for key in ("title", "base_url", "course_repo", "description", "author"):
@@ -235,10 +227,32 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
         kwargs["rosters"] = tuple(_rosters(ck, top["rosters"], root))
     if "sims" in top:
         kwargs["sims"] = _sims(ck, top["sims"], root)
+    if "blog" in top:
+        v = _values(ck, ck.keys(top["blog"], "blog", _BLOG), _BLOG, "blog.")
+        if "page_size" in v and not 1 <= v["page_size"] <= 1000:
+            ck.fail(top["blog"], "blog.page_size", "must be a whole number from 1 to 1000")
+            del v["page_size"]
+        kwargs["blog"] = BlogConfig(**_folder(ck, top["blog"], v, "blog"))
+    if "slides" in top:
+        v = _values(ck, ck.keys(top["slides"], "slides", _SLIDES), _SLIDES, "slides.")
+        kwargs["slides"] = SlidesConfig(**_folder(ck, top["slides"], v, "slides"))
     if ck.problems:
         raise BuildError("invalid sitegen.yml", ck.problems)
-    raw = yaml.safe_load(text) or {}
+    raw = to_python(node) or {}
     return Config(root=root, source_file=root / file, raw=raw, **kwargs)
+
+
+def _folder(ck: _Checker, node: yaml.Node, values: dict, where: str) -> dict:
+    """``dir`` must name a folder inside the content folder: no absolute path, no '..'."""
+    d = values.get("dir")
+    if d is not None:
+        parts = d.strip("/").split("/")
+        if d.startswith("/") or not d.strip("/") or any(x in ("", ".", "..") for x in parts):
+            ck.fail(node, f"{where}.dir", "must be a folder inside the content folder, e.g. blog")
+            del values["dir"]
+        else:
+            values["dir"] = "/".join(parts)
+    return values
 
 
 def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
@@ -248,7 +262,7 @@ def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
     out = []
     for i, item in enumerate(node.value):
         where = f"rosters[{i}]"
-        nodes = ck.mapping(item, where, _ROSTER)
+        nodes = ck.keys(item, where, _ROSTER)
         v = _values(ck, nodes, _ROSTER, where + ".")
         if not (_require(ck, item, v, "name", where) and _require(ck, item, v, "file", where)):
             continue
@@ -260,17 +274,23 @@ def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
                 section=v.get("section", ""),
                 title=v.get("title", v["name"]),
                 weight=v.get("weight", 0),
+                layout=v.get("layout", "auto"),
             )
         )
+        if out[-1].layout not in ("auto", "paired", "ids"):
+            ck.fail(nodes["layout"], f"{where}.layout", "must be one of auto, paired, ids")
     return out
 
 
 def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
-    nodes = ck.mapping(node, "sims", _SIMS)
+    nodes = ck.keys(node, "sims", _SIMS)
     v = _values(ck, nodes, _SIMS, "sims.")
     kwargs: dict[str, Any] = {
         k: v[k] for k in ("section", "title", "fps", "jobs", "timeout") if k in v
     }
+    if "timeout" in v and not 0 < v["timeout"] < float("inf"):
+        ck.fail(nodes["timeout"], "sims.timeout", "must be a positive number of seconds")
+        del kwargs["timeout"]
     if "size" in v:
         m = _SIZE.match(v["size"])
         if not m:
@@ -284,7 +304,7 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
         else:
             for i, item in enumerate(nodes["clips"].value):
                 where = f"sims.clips[{i}]"
-                cv = _values(ck, ck.mapping(item, where, _CLIP), _CLIP, where + ".")
+                cv = _values(ck, ck.keys(item, where, _CLIP), _CLIP, where + ".")
                 if not _require(ck, item, cv, "name", where):
                     continue
                 if ("scenario" in cv) == ("script" in cv):
@@ -295,6 +315,15 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                     continue
                 if "script" in cv:
                     cv["script"] = root / cv["script"]
+                if "speed" in cv and not 1 <= cv["speed"] <= 100:
+                    ck.fail(item, f"{where}.speed", "must be a number from 1 to 100")
+                    continue
+                if "timeout" in cv and not 0 < cv["timeout"] < float("inf"):
+                    ck.fail(item, f"{where}.timeout", "must be a positive number of seconds")
+                    continue
+                if cv.get("camera", "follow") not in ("follow", "overview"):
+                    ck.fail(item, f"{where}.camera", "must be follow or overview")
+                    continue
                 clips.append(ClipConfig(**cv))
     kwargs["clips"] = tuple(clips)
     return SimsConfig(**kwargs)
@@ -306,6 +335,11 @@ def load_config(root: Path) -> Config:
     if not path.is_file():
         return Config(root=root, title=root.resolve().name or "Site")
     try:
+        if path.stat().st_size > MAX_BYTES:
+            raise BuildError(
+                "invalid sitegen.yml",
+                [Diagnostic(str(path), None, "", f"larger than the limit of {MAX_BYTES} bytes")],
+            )
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise BuildError(

@@ -16,10 +16,14 @@ from typing import Any
 
 import yaml
 
+from located import yaml as located_yaml
 from sitegen.errors import Diagnostics
 
 PAGE_SUFFIXES = (".md", ".markdown")
 _SKIP_DIRS = {".git", ".hg", ".svn", "__pycache__", "node_modules", ".sitegen-cache"}
+MAX_DEPTH = 32  # folders below the content folder; course sites use three or four
+MAX_PAGE_BYTES = 8 << 20  # a Markdown page; course pages are tens of kilobytes
+MAX_ASSET_BYTES = 100 << 20  # any other file: GitHub refuses to store larger files
 _PREFIX = re.compile(r"^(\d+)[-_ .]+(?=\S)")
 _FRONT_KEYS = {
     "title": str,
@@ -28,6 +32,11 @@ _FRONT_KEYS = {
     "slug": str,
     "draft": bool,
     "description": str,
+    # slide decks and blog posts (sitegen/slides.py, sitegen/blog.py)
+    "slides": bool,
+    "date": "date",
+    "tags": "tags",
+    "summary": str,
 }
 
 
@@ -89,11 +98,9 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
     block = "\n".join(lines[1:end])
     body = "\n".join(lines[end + 1 :])
     try:
-        node = yaml.compose(block)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line = mark.line + 2 if mark else 1
-        diags.error(file, line, "front matter", f"not valid YAML: {getattr(exc, 'problem', exc)}")
+        node = located_yaml.compose(block, file, first_line=2)
+    except located_yaml.YamlError as exc:
+        diags.error(file, exc.line or 1, "front matter", exc.message)
         return {}, body, end + 2
     meta: dict[str, Any] = {}
     if node is None:
@@ -103,7 +110,13 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
         return meta, body, end + 2
     for knode, vnode in node.value:
         key, line = str(knode.value), knode.start_mark.line + 2
-        value = yaml.safe_load(yaml.serialize(vnode))
+        try:
+            value = located_yaml.to_python(vnode)
+        except ValueError as exc:  # a timestamp that is no date (2021-02-30): YAML raises
+            if not isinstance(vnode, yaml.ScalarNode):
+                diags.error(file, line, key, f"cannot be read: {exc}")
+                continue
+            value = str(vnode.value)  # the text as written: a title, or a date reported below
         want = _FRONT_KEYS.get(key)
         if want is None:
             diags.error(
@@ -113,18 +126,46 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
                 f"unknown front matter key (allowed: {', '.join(sorted(_FRONT_KEYS))})",
             )
         elif want is int and (isinstance(value, bool) or not isinstance(value, int)):
-            diags.error(file, line, key, f"must be a whole number, got {value!r}")
+            diags.error(
+                file, line, key, f"must be a whole number, got {located_yaml.short_repr(value)}"
+            )
         elif value is None:
             diags.error(file, line, key, "has no value")
+        elif want in ("date", "tags"):
+            checked = _post_value(want, value)
+            if checked is None or (want == "tags" and isinstance(checked, str)):
+                bad = _BAD_DATE.format(located_yaml.short_repr(value))
+                diags.error(file, line, key, checked or bad)
+            else:
+                meta[key] = checked
         elif want is str and not isinstance(value, (str, int, float)):
-            diags.error(file, line, key, f"must be text, got {value!r}")
+            diags.error(file, line, key, f"must be text, got {located_yaml.short_repr(value)}")
         elif want is bool and not isinstance(value, bool):
-            diags.error(file, line, key, f"must be true or false, got {value!r}")
+            diags.error(
+                file, line, key, f"must be true or false, got {located_yaml.short_repr(value)}"
+            )
         else:
             meta[key] = str(value) if want is str else value
     if "order" in meta and "weight" not in meta:
         meta["weight"] = meta.pop("order")
     return meta, body, end + 2
+
+
+_BAD_DATE = "not a date: {} (write YYYY-MM-DD or YYYY-MM-DD HH:MM)"
+
+
+def _post_value(want: str, value: Any) -> Any:
+    """A post's ``date`` in its normal form (None if it does not parse), or its ``tags`` as a
+    tuple of names (an error message as a str when they are not a list or comma list)."""
+    if want == "date":
+        from sitegen.post_dates import parse_post_date
+
+        return parse_post_date(value)
+    items = value.split(",") if isinstance(value, str) else value
+    if not isinstance(items, list) or not all(isinstance(t, (str, int, float)) for t in items):
+        got = located_yaml.short_repr(value)
+        return f"must be a list of names or a comma-separated text, got {got}"
+    return tuple(dict.fromkeys(str(t).strip() for t in items if str(t).strip()))
 
 
 def read_page(path: Path, rel: PurePosixPath, data: bytes, diags: Diagnostics) -> SourcePage | None:
@@ -151,33 +192,118 @@ def read_page(path: Path, rel: PurePosixPath, data: bytes, diags: Diagnostics) -
 
 
 def scan(content_root: Path, diags: Diagnostics, exclude: set[Path] | None = None) -> SourceTree:
-    """Walk ``content_root`` in a fixed order and read every page and asset."""
+    """Walk ``content_root`` in a fixed order and read every page and asset.
+
+    The walk keeps its own stack (no recursion, so no depth can overflow Python's), stops at
+    :data:`MAX_DEPTH` folders, and reports instead of reading: a symlink whose target lies
+    outside the content folder (never followed: it would publish that file), a symlink loop,
+    anything that is not a regular file or folder, and files above the size limits."""
     tree = SourceTree()
     exclude = {p.resolve() for p in (exclude or set())}
-    for dirpath, dirnames, filenames in os.walk(content_root):
-        here = Path(dirpath)
-        dirnames[:] = sorted(
-            d
-            for d in dirnames
-            if d not in _SKIP_DIRS and not d.startswith(".") and (here / d).resolve() not in exclude
-        )
-        rel_dir = os.path.relpath(dirpath, content_root).replace(os.sep, "/")
-        if rel_dir != ".":
-            tree.dirs.append(PurePosixPath(rel_dir))
-        for name in sorted(filenames):
+    boundary = content_root.resolve()
+    stack: list[tuple[Path, PurePosixPath, Path]] = [(content_root, PurePosixPath("."), boundary)]
+    while stack:
+        here, rel_dir, real_dir = stack.pop()
+        if rel_dir.parts:
+            tree.dirs.append(rel_dir)
+        try:
+            with os.scandir(here) as it:
+                entries = sorted(it, key=lambda e: e.name)
+        except OSError as exc:
+            diags.error(_display(rel_dir), None, "", f"cannot read folder: {exc.strerror}")
+            continue
+        subdirs: list[tuple[Path, PurePosixPath, Path]] = []
+        for entry in entries:
+            name = entry.name
             if name.startswith(".") or name.endswith("~"):
                 continue
-            path = here / name
-            rel = PurePosixPath(name if rel_dir == "." else f"{rel_dir}/{name}")
-            try:
-                data = path.read_bytes()
-            except OSError as exc:
-                diags.error(str(rel), None, "", f"cannot read: {exc.strerror}")
+            path, rel = here / name, rel_dir / name
+            real = _inside_target(entry, path, rel, boundary, real_dir, diags)
+            if real is None:
                 continue
-            if name.lower().endswith(PAGE_SUFFIXES):
-                page = read_page(path, rel, data, diags)
-                if page is not None and not page.meta.get("draft"):
-                    tree.pages.append(page)
+            if real.is_dir():
+                if name in _SKIP_DIRS or real in exclude:
+                    continue
+                if len(rel.parts) > MAX_DEPTH:
+                    diags.error(
+                        str(rel),
+                        None,
+                        "",
+                        f"folders nest deeper than {MAX_DEPTH} levels; this one was not read",
+                    )
+                    continue
+                subdirs.append((path, rel, real))
+            elif real.is_file():
+                _read_file(path, rel, tree, diags)
             else:
-                tree.assets.append(SourceAsset(rel, path, hashlib.sha256(data).hexdigest()))
+                diags.error(str(rel), None, "", "not a regular file or folder; not published")
+        stack.extend(reversed(subdirs))
     return tree
+
+
+def _display(rel: PurePosixPath) -> str:
+    return str(rel) if rel.parts else "."
+
+
+def _inside_target(
+    entry: os.DirEntry, path: Path, rel: PurePosixPath, boundary: Path, real_dir: Path, diags
+) -> Path | None:
+    """The real path behind ``entry``, or None (with an error) if it must not be followed."""
+    try:
+        is_link = entry.is_symlink()
+    except OSError as exc:
+        diags.error(str(rel), None, "", f"cannot read: {exc.strerror}")
+        return None
+    if not is_link:
+        return real_dir / entry.name
+    target = Path(os.path.realpath(path))
+    if not target.is_relative_to(boundary):
+        diags.error(
+            str(rel),
+            None,
+            "symlink",
+            f"points outside the content folder (to {target}); it is not followed. "
+            "Copy the file into the content folder instead",
+        )
+        return None
+    if not target.exists():
+        diags.error(str(rel), None, "symlink", "points to nothing (a broken link)")
+        return None
+    if target.is_dir() and real_dir.is_relative_to(target):
+        diags.error(str(rel), None, "symlink", "points to a folder that contains it (a loop)")
+        return None
+    return target
+
+
+def _read_file(path: Path, rel: PurePosixPath, tree: SourceTree, diags: Diagnostics) -> None:
+    """Read a page (bounded) or hash an asset (in blocks), enforcing the size limits."""
+    is_page = rel.name.lower().endswith(PAGE_SUFFIXES)
+    limit = MAX_PAGE_BYTES if is_page else MAX_ASSET_BYTES
+    kind = "a Markdown page" if is_page else "a file"
+    h = hashlib.sha256()
+    chunks: list[bytes] = []
+    size = 0
+    try:
+        with open(path, "rb") as fh:
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                size += len(block)
+                if size > limit:
+                    diags.error(
+                        str(rel),
+                        None,
+                        "",
+                        f"{kind} larger than the limit of {limit // (1 << 20)} MiB; not published",
+                    )
+                    return
+                h.update(block)
+                if is_page:
+                    chunks.append(block)
+    except OSError as exc:
+        diags.error(str(rel), None, "", f"cannot read: {exc.strerror}")
+        return
+    if is_page:
+        page = read_page(path, rel, b"".join(chunks), diags)
+        if page is not None and not page.meta.get("draft"):
+            tree.pages.append(page)
+    else:
+        tree.assets.append(SourceAsset(rel, path, h.hexdigest()))

@@ -1,5 +1,8 @@
 """Diagnostics: one clear line per problem, naming file, line and field.
 
+The record itself is :class:`located.diagnostics.Diagnostic` (shared with ``roster/`` and
+``sims/``), re-exported here because every sitegen module imports it from this place.
+
 Every stage reports through :class:`Diagnostics` instead of raising, so that one bad page
 does not hide the others; :class:`BuildError` stops a build and is turned into exit code 1
 by the CLI, never into a traceback.
@@ -9,21 +12,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from located.diagnostics import Diagnostic
 
-@dataclass(frozen=True, order=True)
-class Diagnostic:
-    """A problem found in the user's input."""
-
-    file: str
-    line: int | None
-    field: str
-    message: str
-    severity: str = "error"  # "error" | "warning"
-
-    def __str__(self) -> str:
-        where = self.file if self.line is None else f"{self.file}:{self.line}"
-        what = f"{self.field}: " if self.field else ""
-        return f"{where}: {self.severity}: {what}{self.message}"
+__all__ = ["BuildError", "Diagnostic", "Diagnostics"]
 
 
 class BuildError(Exception):
@@ -45,6 +36,9 @@ class Diagnostics:
 
     def warning(self, file: str, line: int | None, fld: str, message: str) -> None:
         self.items.append(Diagnostic(file, line, fld, message, "warning"))
+
+    def add(self, diagnostic: Diagnostic) -> None:
+        self.items.append(diagnostic)
 
     def extend(self, other: list[Diagnostic]) -> None:
         self.items.extend(other)

@@ -33,6 +33,22 @@ STRINGS: dict[str, dict[str, str]] = {
         "group_repo": "repo",
         "group_site": "site",
         "roster_json": "Download as JSON",
+        "close_menu": "Close menu",
+        "close_hint": "or press Esc",
+        "theme": "Light or dark theme",
+        "copy_code": "Copy",
+        "copied_code": "Copied",
+        "all_results": "All results",
+        "roster_summary": "{groups} groups, {members} members",
+        "member_count": "{n} members",
+        "leader": "leader",
+        "frames": "frames",
+        "seed": "seed",
+        "seconds_unit": "s",
+        "stale": "stale: last render failed",
+        "render_failed": "render failed",
+        "not_rendered": "clip not rendered",
+        "rendering": "rendering…",
     },
     "zh-TW": {
         "home": "首頁",
@@ -64,9 +80,36 @@ STRINGS: dict[str, dict[str, str]] = {
         "group_repo": "倉儲",
         "group_site": "網站",
         "roster_json": "下載 JSON",
+        "close_menu": "關閉選單",
+        "close_hint": "或按 Esc",
+        "theme": "淺色或深色主題",
+        "copy_code": "複製",
+        "copied_code": "已複製",
+        "all_results": "所有結果",
+        "roster_summary": "{groups} 組, {members} 位組員",
+        "member_count": "{n} 位組員",
+        "leader": "組長",
+        "frames": "影格",
+        "seed": "亂數種子",
+        "seconds_unit": "秒",
+        "stale": "舊版影片: 最近一次產生失敗",
+        "render_failed": "產生失敗",
+        "not_rendered": "影片尚未產生",
+        "rendering": "影片產生中…",
     },
 }
 
 
 def strings(language: str) -> dict[str, str]:
     return STRINGS.get(language, STRINGS["en"])
+
+
+def roster_labels(strings: dict[str, str]) -> dict[str, str]:
+    """The words of a roster page (roster.emit.to_html ``labels``) in the site's language."""
+    return {
+        "summary": strings["roster_summary"],
+        "member_count": strings["member_count"],
+        "leader": strings["leader"],
+        "repo": strings["group_repo"],
+        "site": strings["group_site"],
+    }

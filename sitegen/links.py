@@ -4,6 +4,13 @@ Authors link to source files (``../w2/index.md#齒輪``, ``images/gear.png``, or
 ``/images/gear.png`` from the content root); the output must link to the generated pages with
 paths relative to the linking page, so the same site works from ``file://``, under
 ``https://user.github.io/repo/`` and at a domain root.
+
+Only real attributes of real tags are rewritten: the text of ``<pre>``, ``<code>``, comments,
+``<script>`` and ``<style>`` is never touched nor checked, because a code sample that shows
+HTML must read exactly as its author wrote it. External URLs are checked for form only (a
+scheme and a host; never fetched), with the same rule as ``sitegen check``; a URL that does not
+parse is kept as written with a warning. Protocol-relative ``//host/...`` becomes
+``https://host/...``: from ``file://`` it would name a file.
 """
 
 from __future__ import annotations
@@ -14,14 +21,36 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import PurePosixPath
-from urllib.parse import quote, unquote
+from urllib.parse import quote, unquote, urlsplit
 
 from sitegen.errors import Diagnostics
 from sitegen.nav import Node, Site
 
 _ATTR = re.compile(r"""(\s(?:href|src|poster)=)(["'])(.*?)\2""", re.S)
 _SCHEME = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*:")
-SAFE_URL_CHARS = "/#-._~!$&'()*+,;=:@%"
+#: Regions whose text is not markup to rewrite: comments and code/raw-text elements.
+_OPAQUE = re.compile(
+    r"<!--.*?-->|<(pre|code|script|style|textarea)\b[^>]*>.*?</\1\s*>", re.S | re.I
+)
+#: One start tag; quoted attribute values may hold ``>``.
+_TAG = re.compile(r"""<[A-Za-z][^\s/>]*(?:[^>"']|"[^"]*"|'[^']*')*>""")
+WEB_SCHEMES = ("http", "https")
+
+
+def external_problem(url: str) -> str | None:
+    """Why an http(s) or ``//host`` URL is malformed (no host, does not parse), or None.
+
+    The only check made on external URLs, by the build and by ``sitegen check`` alike:
+    they are never fetched.
+    """
+    try:
+        parts = urlsplit(url)
+        parts.port  # noqa: B018 -- raises ValueError for a port that is not a number
+    except ValueError as exc:
+        return f"malformed URL '{url}' ({exc}); kept as written"
+    if (parts.scheme.lower() in WEB_SCHEMES or url.startswith("//")) and not parts.hostname:
+        return f"URL '{url}' has no host; kept as written"
+    return None
 
 
 def url_quote(path: str) -> str:
@@ -48,8 +77,11 @@ class LinkTargets:
     def build(cls, site: Site, assets: set[PurePosixPath], ids: dict[str, set[str]]) -> LinkTargets:
         return cls(site, assets, ids, {n.url: n for n in site.order})
 
-    def resolve(self, node: Node, raw: str) -> tuple[str | None, str | None]:
-        """Return (site-root path + fragment, problem). Unchanged links give (None, None)."""
+    def resolve(self, node: Node, raw: str) -> tuple[tuple[str, str] | None, str | None]:
+        """Return ((site-root path, fragment), problem). Unchanged links give (None, None).
+
+        The path is returned apart from the fragment because a file name may hold ``#``.
+        """
         if not raw or _SCHEME.match(raw) or raw.startswith("//"):
             return None, None
         path, _, frag = raw.partition("#")
@@ -78,7 +110,7 @@ class LinkTargets:
             ids = self.ids.get(target_url)
             if ids is not None and frag not in ids and unquote(frag) not in ids:
                 return None, f"anchor '#{unquote(frag)}' not found in '{path}'"
-        return target_url + (f"#{frag}" if frag else ""), None
+        return (target_url, frag), None
 
     def _target(self, p: PurePosixPath, is_dir: bool) -> str | None:
         site = self.site
@@ -112,21 +144,40 @@ def rewrite_links(
     source: str = "",
     first_line: int = 1,
 ) -> str:
-    """Rewrite every href/src/poster in ``fragment``; warn about broken ones with file:line."""
+    """Rewrite every href/src/poster of the tags in ``fragment`` (never inside code); warn
+    about broken or malformed ones with file:line."""
 
     def sub(m: re.Match) -> str:
-        raw = m.group(3)
-        target, problem = targets.resolve(node, raw.strip())
+        raw = m.group(3).strip()
+        if raw.startswith("//") or _SCHEME.match(raw):
+            problem = external_problem(html.unescape(raw))
+            if problem:
+                diags.warning(file, line_of(source, raw, first_line), "link", problem)
+                return m.group(0)
+            if raw.startswith("//"):
+                return f"{m.group(1)}{m.group(2)}https:{raw}{m.group(2)}"
+            return m.group(0)
+        target, problem = targets.resolve(node, raw)
         if problem:
             diags.warning(file, line_of(source, raw, first_line), "link", problem)
             return m.group(0)
         if target is None:
             return m.group(0)
-        path, _, frag = target.partition("#")
+        path, frag = target
         href = url_quote(relative(node.url, path)) + (f"#{frag}" if frag else "")
         return f"{m.group(1)}{m.group(2)}{href}{m.group(2)}"
 
-    return _ATTR.sub(sub, fragment)
+    def tag(m: re.Match) -> str:
+        return _ATTR.sub(sub, m.group(0))
+
+    out: list[str] = []
+    pos = 0
+    for opaque in _OPAQUE.finditer(fragment):
+        out.append(_TAG.sub(tag, fragment[pos : opaque.start()]))
+        out.append(opaque.group(0))
+        pos = opaque.end()
+    out.append(_TAG.sub(tag, fragment[pos:]))
+    return "".join(out)
 
 
 DirectiveHandler = Callable[[str, Node], str]

@@ -16,11 +16,17 @@ import pygments
 from markdown.extensions import Extension
 from markdown.preprocessors import Preprocessor
 
+from sitegen.markdown_speed import (
+    LinearBlocksExtension,
+    LinearFootnotesExtension,
+    cached_formatter,
+)
+from sitegen.md_tabs import TabsExtension
 from sitegen.slugs import heading_id
 
 #: Part of every cached fragment's key: bump the number when the rendering below changes; the
 #: Markdown and Pygments versions are in it because their output changes with them.
-RENDER_VERSION = f"md-3/{markdown.__version__}/{pygments.__version__}"
+RENDER_VERSION = f"md-4/{markdown.__version__}/{pygments.__version__}"
 
 DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
 MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")
@@ -88,7 +94,7 @@ class MarkdownRenderer:
             extensions=[
                 "tables",
                 "fenced_code",
-                "footnotes",
+                LinearFootnotesExtension(),
                 "attr_list",
                 "def_list",
                 "sane_lists",
@@ -96,9 +102,17 @@ class MarkdownRenderer:
                 "codehilite",
                 "toc",
                 DirectiveExtension(self._found),
+                "admonition",  # !!! note|tip|warning "title" (reader, issue 17)
+                TabsExtension(),  # === "Windows" content tabs (sitegen/md_tabs.py)
+                LinearBlocksExtension(),  # blocks as a queue: linear in the page's size
             ],
             extension_configs={
-                "codehilite": {"css_class": "highlight", "guess_lang": False, "wrapcode": True},
+                "codehilite": {
+                    "css_class": "highlight",
+                    "guess_lang": False,
+                    "wrapcode": True,
+                    "pygments_formatter": cached_formatter,
+                },
                 "toc": {
                     "slugify": _heading_slug,
                     "toc_depth": "2-6",

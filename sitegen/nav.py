@@ -217,14 +217,16 @@ def _split(name: str) -> tuple[int | None, str]:
     return split_name(name)
 
 
-def menu_for(site: Site, node: Node) -> list[dict]:
+def menu_for(site: Site, node: Node, mark_current: bool = True) -> list[dict]:
     """The menu shown on ``node``: top level, plus the open branch down to the page.
 
     Listing every page on every page makes output grow as pages squared; a 1000-page site
     would write a 1000-item menu 1000 times. Only the current branch is expanded here; the
-    Site Map page holds the full tree.
+    Site Map page holds the full tree. With ``mark_current=False`` nothing is marked current:
+    the menu every page of one folder shares (:func:`menu_owner`), rendered once per folder.
     """
     branch = set(id(a) for a in node.ancestors()) | {id(node)}
+    current = node if mark_current else None
 
     def item(n: Node) -> dict:
         open_ = id(n) in branch
@@ -232,7 +234,7 @@ def menu_for(site: Site, node: Node) -> list[dict]:
         return {
             "title": n.title,
             "url": n.url,
-            "current": n is node,
+            "current": n is current,
             "open": open_,
             "has_children": bool(n.children),
             "children": kids,
@@ -242,13 +244,21 @@ def menu_for(site: Site, node: Node) -> list[dict]:
         {
             "title": site.root.title,
             "url": site.root.url,
-            "current": node is site.root,
+            "current": current is site.root,
             "open": False,
             "has_children": False,
             "children": [],
         }
     ]
     return top + [item(c) for c in site.root.children]
+
+
+def menu_owner(node: Node) -> Node | None:
+    """The node whose unmarked menu ``node`` shows: its folder for a page, None for a section
+    or the home page (whose menus open their own children, so they are not shared)."""
+    if node.is_section or node.parent is None:
+        return None
+    return node.parent
 
 
 def full_tree(site: Site) -> list[dict]:

@@ -15,11 +15,10 @@ from dataclasses import dataclass
 from markupsafe import Markup
 
 from sitegen.config import Config
-from sitegen.nav import Node, Site, full_tree, menu_for
+from sitegen.nav import Node, Site, full_tree, menu_for, menu_owner
 from sitegen.theme import Theme
 
 # Every page: the name of the generated special pages, kept out of the content namespace.
-SPECIAL = ("sitemap.html", "search.html", "404.html")
 
 
 @dataclass
@@ -64,8 +63,11 @@ def page_context(site: Site, node: Node, body: PageBody, base: dict) -> dict:
     prev_node = order[node.index - 1] if node.index > 0 else None
     next_node = order[node.index + 1] if node.index + 1 < len(order) else None
     crumbs = [_link(a) for a in node.ancestors()]
+    listed = node.source is None or node.source.meta.get("_children", True)  # blog: its own list
     children = (
-        [_link(c) for c in node.children] if node.is_section and node.parent is not None else []
+        [_link(c) for c in node.children]
+        if node.is_section and node.parent is not None and listed
+        else []
     )
     return {
         **base,
@@ -115,22 +117,65 @@ def context_hash(context: dict, theme_digest: str, menu_signature: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def render_page(theme: Theme, site: Site, node: Node, context: dict) -> bytes:
-    ctx = dict(context, menu=menu_for(site, node))
+class Menus:
+    """Menu HTML for each page, from the theme's ``menu.html``, rendered once per folder.
+
+    The pages of one folder show the same menu but for the mark on their own entry, so the
+    folder's menu is rendered once with nothing marked and each page's entry, rendered alone
+    by the ``item`` macro, is swapped for its marked form: a string replace instead of a
+    recursive macro per page. A theme whose menu does not contain each entry exactly once as
+    ``item()`` renders it gets the whole menu rendered per page (same output, slower).
+    """
+
+    def __init__(self, theme: Theme, site: Site):
+        self.site = site
+        self.template = theme.env.get_template("menu.html")
+        self._macros: dict[str, object] = {}
+        self._shared: dict[int, str] = {}
+
+    def _module(self, root: str):
+        module = self._macros.get(root)
+        if module is None:
+            module = self._macros[root] = self.template.make_module({"root": root})
+        return module
+
+    def html(self, node: Node | None) -> Markup:
+        """The menu of ``node``; None: the site root's menu with nothing marked."""
+        if node is None:
+            return self._module("").tree(menu_for(self.site, self.site.root, mark_current=False))
+        macros = self._module(root_prefix(node.url))
+        owner = menu_owner(node)
+        if owner is None:
+            return macros.tree(menu_for(self.site, node))
+        shared = self._shared.get(id(owner))
+        if shared is None:
+            shared = str(macros.tree(menu_for(self.site, owner, mark_current=False)))
+            self._shared[id(owner)] = shared
+        entry = {"title": node.title, "url": node.url, "has_children": False, "children": []}
+        plain = str(macros.item({**entry, "current": False, "open": False}, False))
+        if shared.count(plain) != 1:
+            return macros.tree(menu_for(self.site, node))
+        marked = str(macros.item({**entry, "current": True, "open": True}, True))
+        return Markup(shared.replace(plain, marked))
+
+
+def render_page(theme: Theme, menus: Menus, node: Node, context: dict) -> bytes:
+    ctx = dict(context, menu_html=menus.html(node))
     ctx["page"] = dict(ctx["page"], body=Markup(ctx["page"]["body"]))
     return theme.render("page.html", ctx).encode()
 
 
-def special_pages(theme: Theme, site: Site, base: dict) -> dict[str, bytes]:
+def special_pages(theme: Theme, site: Site, base: dict, menus: Menus) -> dict[str, bytes]:
     """Site Map (the full tree), the search page and the 404 page, all at the site root."""
-    top = site.root
-    common = {**base, "root": "", "menu": menu_for(site, top), "page": {"title": "", "url": ""}}
+    common = {**base, "root": "", "menu_html": menus.html(None), "page": {"title": "", "url": ""}}
     return {
         "sitemap.html": theme.render(
             "sitemap.html", {**common, "full_tree": full_tree(site)}
         ).encode(),
         "search.html": theme.render("search.html", common).encode(),
         "404.html": theme.render("404.html", common).encode(),
+        # the whole tree, so the menu can expand any section in place (the reader's theme)
+        "assets/nav.js": theme.render("nav.js", {"full_tree": full_tree(site)}).encode(),
     }
 
 
@@ -159,6 +204,7 @@ def search_entries(site: Site, bodies: dict[str, PageBody]) -> list[dict]:
             "url": n.url,
             "path": [a.title for a in n.ancestors()],
             "text": bodies[n.url].text,
+            "toc": bodies[n.url].toc,
         }
         for n in site.order
     ]

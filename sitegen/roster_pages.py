@@ -8,6 +8,7 @@ removed, moved, accounts changed) is how they see that the edit did what they me
 from __future__ import annotations
 
 import hashlib
+from dataclasses import replace
 from html import escape
 from pathlib import Path, PurePosixPath
 
@@ -15,6 +16,7 @@ from roster import RosterError, diff, load_roster
 from roster.emit import to_html, to_json
 from sitegen.config import Config, RosterConfig
 from sitegen.errors import Diagnostics
+from sitegen.i18n import roster_labels
 from sitegen.integrations import Integration
 from sitegen.links import url_quote
 from sitegen.nav import Node, PageInput
@@ -33,6 +35,7 @@ class RosterIntegration(Integration):
     def __init__(self, config: Config):
         self.config = config
         self.results: dict[str, object] = {}
+        self.labels: dict[str, str] | None = None  # the site's words, set by pages()
         self.state_before: dict = {}
 
     def fingerprint(self) -> str:
@@ -63,15 +66,17 @@ class RosterIntegration(Integration):
                 continue
             try:
                 result = load_roster(
-                    rc.file, corrections=rc.corrections, course_repo=self.config.course_repo
+                    rc.file,
+                    corrections=rc.corrections,
+                    course_repo=self.config.course_repo,
+                    layout=rc.layout,
                 )
             except RosterError as exc:
-                diags.error(self._rel(Path(exc.file)), exc.line or None, exc.field, exc.message)
+                diags.add(replace(exc.diagnostic, file=self._rel(Path(exc.file))))
                 continue
             for d in result.diagnostics:
-                if d.severity in ("error", "warning"):
-                    add = diags.error if d.severity == "error" else diags.warning
-                    add(self._rel(Path(d.file)), d.line or None, d.field, d.message)
+                if d.severity != "info":  # roster and site share one Diagnostic type
+                    diags.add(replace(d, file=self._rel(Path(d.file))))
             if result.ok:
                 self.results[rc.name] = result
 
@@ -82,6 +87,7 @@ class RosterIntegration(Integration):
         )
 
     def pages(self, strings: dict[str, str]) -> list[PageInput]:
+        self.labels = roster_labels(strings)
         out = []
         for rc in self.config.rosters:
             result = self.results.get(rc.name)
@@ -92,7 +98,8 @@ class RosterIntegration(Integration):
             json_href = "../" * depth + url_quote(f"roster/{rc.name}.json")
             body = (
                 f'<p><a class="roster-json" href="{escape(json_href, quote=True)}" download>'
-                f"{escape(strings['roster_json'])}</a></p>\n" + to_html(result)
+                f"{escape(strings['roster_json'])}</a></p>\n"
+                + to_html(result, roster_labels(strings))
             )
             toc = [
                 {"id": f"group-{g.slug}", "title": g.name, "children": []}
@@ -126,10 +133,8 @@ class RosterIntegration(Integration):
                 known = ", ".join(sorted(self.results)) or "none configured"
                 raise LookupError(f"no roster named '{arg}' (known: {known})")
             href = root_prefix(node.url) + url_quote(f"roster/{arg.strip()}.json")
-            return (
-                f'<p><a class="roster-json" href="{escape(href, quote=True)}" download>JSON</a></p>\n'
-                + to_html(result)
-            )
+            link = f'<a class="roster-json" href="{escape(href, quote=True)}" download>JSON</a>'
+            return f"<p>{link}</p>\n" + to_html(result, self.labels)
 
         return {"roster": roster_directive}
 

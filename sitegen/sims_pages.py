@@ -2,20 +2,23 @@
 add the gallery page and the ``::: clip NAME`` directive.
 
 Rendering is delegated to :func:`sims.clips.render_clips`, which caches by content hash and
-renders independent clips in parallel; a clip that fails keeps its previous good render
-(marked stale) and is reported by name, the rest of the site still builds.
+splits the work across cores; progress is shown by :mod:`sitegen.progress`. A clip never takes
+the site down: one that fails is a warning naming it and its cause (an error under
+``--strict``), its previous good render is shown marked stale, and without one its page and
+gallery entry show a placeholder with the error. The failure is remembered in the clip cache;
+``--retry-failed`` renders it again. See docs/clips.md.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import sys
 from html import escape
 from pathlib import Path, PurePosixPath
 
 from sitegen.config import ClipConfig, Config
 from sitegen.errors import Diagnostics
+from sitegen.i18n import strings as interface_strings
 from sitegen.integrations import Integration
 from sitegen.links import url_quote
 from sitegen.nav import Node, PageInput
@@ -36,7 +39,7 @@ def _sims_code_digest() -> str:
 
     h = hashlib.sha256()
     root = Path(sims.__file__).resolve().parent
-    for f in sorted(root.rglob("*.py")):
+    for f in sorted([*root.rglob("*.py"), *root.rglob("*.json")]):  # code, bundled scenes
         h.update(f.relative_to(root).as_posix().encode())
         h.update(f.read_bytes())
     return h.hexdigest()
@@ -49,15 +52,39 @@ class SimsIntegration(Integration):
         self.cache_dir = cache_dir / "clips"
         self.results: dict[str, object] = {}
         self.failed: dict[str, str] = {}
+        self.pending: set[str] = set()  # not rendered yet (a build that renders no clips)
         self._files: dict[str, OutFile] = {}
+        self.strings = interface_strings(config.language)
+        self._clips = {clip.name: clip for clip in self.sims.clips}
+
+    def clip_title(self, name: str) -> str:
+        """The clip's ``title:`` (gallery heading, caption link), else its name."""
+        clip = self._clips.get(name)
+        return (clip.title if clip is not None else None) or name
 
     def fingerprint(self) -> str:
-        h = hashlib.sha256(repr(self.sims).encode())
+        h = hashlib.sha256(repr(self.sims).replace(str(self.config.root), ".").encode())
         h.update(_sims_code_digest().encode())
         for clip in self.sims.clips:
-            if clip.script is not None and clip.script.is_file():
-                h.update(clip.script.read_bytes())
+            for path in (clip.script, self.config.root / (clip.scene or "")):
+                if path is not None and path.is_file():  # a script, a scene file
+                    h.update(path.read_bytes())
+        if getattr(self.opts, "retry_failed", False):
+            h.update(b"retry-failed")  # a retry is never "up to date"
+        if not self._renders():
+            h.update(b"no-render")  # so the next full build renders what this one left out
         return "sims:" + h.hexdigest()
+
+    def _renders(self) -> bool:
+        """False for a quick build (``BuildOptions.render_clips``): cached clips only."""
+        return bool(getattr(self.opts, "render_clips", True))
+
+    def _relative(self, path: Path) -> str:
+        """A path as the project names it (relative to sitegen.yml): portable, for keys."""
+        try:
+            return path.resolve().relative_to(self.config.root.resolve()).as_posix()
+        except ValueError:
+            return path.name
 
     def _spec(self, clip: ClipConfig):
         from sims.clips import ClipSpec
@@ -68,15 +95,25 @@ class SimsIntegration(Integration):
             "fps": self.sims.fps,
             "seconds": clip.seconds,
             "seed": clip.seed,
+            "speed": clip.speed,
+            "timeout": clip.timeout,
+            "camera": clip.camera,
+            "trail": clip.trail,
         }
         if clip.script is not None:
-            import sims.remote_api  # noqa: F401  (registers the "script" clip kind)
-
-            params = {"scene": clip.scene}
+            scene = clip.scene
+            if scene and (self.config.root / scene).is_file():  # a scene file of the project
+                scene = str((self.config.root / scene).resolve())
+            params = {"scene": scene}
             if clip.after is not None:
                 params["after"] = clip.after
             return ClipSpec(
-                name=clip.name, scenario=str(clip.script), kind="script", params=params, **common
+                name=clip.name,
+                scenario=str(clip.script),
+                kind="script",
+                params=params,
+                label=self._relative(clip.script),
+                **common,
             )
         return ClipSpec(name=clip.name, scenario=clip.scenario, **common)
 
@@ -86,58 +123,39 @@ class SimsIntegration(Integration):
         config_file = str(
             self.config.source_file.name if self.config.source_file else "sitegen.yml"
         )
-        specs = []
-        for clip in self.sims.clips:
-            if clip.script is not None and not clip.script.is_file():
-                diags.warning(
-                    config_file,
-                    None,
-                    f"sims.clips[{clip.name}].script",
-                    f"script not found: {clip.script}",
-                )
-                self.failed[clip.name] = "script not found"
-                continue
-            specs.append(self._spec(clip))
-        total, done = len(specs), [0]
-        tty = self.opts.is_tty
+        from sitegen.progress import ClipProgress
 
-        def progress(event) -> None:
-            if event.status == "started":
-                if not tty:
-                    self.opts.log(f"clip {event.name}: rendering")
-                return
-            done[0] += 1
-            text = {
-                "cached": "cached",
-                "done": f"rendered in {event.seconds:.1f}s",
-                "failed": f"FAILED: {event.error}",
-            }.get(event.status, event.status)
-            if tty:
-                bar = "#" * int(20 * done[0] / max(total, 1))
-                sys.stderr.write(
-                    f"\rclips [{bar:<20}] {done[0]}/{total} {event.name}: {text}\033[K"
-                )
-                if done[0] == total:
-                    sys.stderr.write("\n")
-                sys.stderr.flush()
-            else:
-                self.opts.log(f"clip {event.name}: {text}")
+        specs = [self._spec(clip) for clip in self.sims.clips]
 
-        results = (
-            render_clips(
-                specs,
-                self.cache_dir,
-                jobs=self.sims.jobs,
-                progress=progress,
-                timeout=self.sims.timeout,
+        shown = ClipProgress(live=self.opts.is_tty, log=self.opts.log)
+        try:
+            results = (
+                render_clips(
+                    specs,
+                    self.cache_dir,
+                    jobs=self.sims.jobs,
+                    progress=shown,
+                    timeout=self.sims.timeout,
+                    retry_failed=getattr(self.opts, "retry_failed", False),
+                    render=self._renders(),
+                )
+                if specs
+                else []
             )
-            if specs
-            else []
-        )
+        finally:
+            shown.close()
         for r in results:
-            if not r.ok:
-                stale = " (showing the previous render)" if r.stale and r.files else ""
-                diags.warning(config_file, None, f"sims.clips[{r.name}]", f"{r.error}{stale}")
+            if r.pending:  # a quick build (sitegen serve's first): no warning, shown later
+                self.pending.add(r.name)
+            elif not r.ok:
+                shown_instead = (
+                    " (showing the previous render, marked stale)"
+                    if r.stale and r.files
+                    else " (a placeholder is shown)"
+                )
+                diags.warning(
+                    config_file, None, f"sims.clips[{r.name}]", f"{r.error}{shown_instead}"
+                )
                 self.failed[r.name] = r.error or "failed"
             if r.files:
                 self.results[r.name] = r
@@ -161,7 +179,8 @@ class SimsIntegration(Integration):
         poster = f' poster="{base}poster.png"' if self._has(name, "poster") else ""
         out = [
             f'<figure class="clip" id="clip-{escape(name, quote=True)}">',
-            f'<video controls muted playsinline preload="metadata" width="{int(w)}" height="{int(h)}"{poster}>',
+            f'<video controls muted playsinline preload="metadata" '
+            f'width="{int(w)}" height="{int(h)}"{poster}>',
             f'<source src="{base}clip.webm" type="video/webm"></video>',
         ]
         if caption:
@@ -170,11 +189,42 @@ class SimsIntegration(Integration):
                 + url_quote(f"{self._section()}/index.html")
                 + f"#clip-{escape(name, quote=True)}"
             )
-            stale = ' <span class="stale">(stale: last render failed)</span>' if r.stale else ""
+            t = self.strings
+            stale = f' <span class="stale">({escape(t["stale"])})</span>' if r.stale else ""
+            length = f"{float(meta.get('duration', 0)):.1f} {t['seconds_unit']}"
             out.append(
-                f"<figcaption>{escape(str(meta.get('description', name)))} · "
-                f'{float(meta.get("duration", 0)):.1f} s · <a href="{gallery}">{escape(name)}</a>{stale}</figcaption>'
+                f"<figcaption>{escape(str(meta.get('description', name)))} · {escape(length)} · "
+                f'<a href="{gallery}">{escape(self.clip_title(name))}</a>{stale}</figcaption>'
             )
+        out.append("</figure>")
+        return "\n".join(out)
+
+    def placeholder_html(self, name: str, root: str, caption: bool = True) -> str:
+        """The poster area of a clip with no render: the clip's size, the error inside."""
+        t = self.strings
+        waiting = name in self.pending and name not in self.failed
+        error = t["rendering"] if waiting else self.failed.get(name, t["not_rendered"])
+        status = t["rendering"] if waiting else t["not_rendered"]
+        w, h = int(self.sims.width), int(self.sims.height)
+        anchor = escape(f"clip-{name}", quote=True)
+        box = (
+            f"aspect-ratio:{w}/{h};width:100%;max-width:{w}px;display:flex;flex-direction:column;"
+            "justify-content:center;gap:6px;padding:12px;box-sizing:border-box;background:#222;"
+            "color:#eee;border-radius:6px;overflow:auto;font-size:.9rem"
+        )
+        out = [
+            f'<figure class="clip {"clip-pending" if waiting else "clip-failed"}" id="{anchor}">',
+            f'<div class="clip-placeholder" role="img" '
+            f'aria-label="{escape(self.clip_title(name), quote=True)}: '
+            f'{escape(status, quote=True)}" style="{box}">',
+            f"<strong>{escape(self.clip_title(name))}: {escape(status)}</strong>",
+            f"<code>{escape(error)}</code></div>",
+        ]
+        if caption:
+            gallery = root + url_quote(f"{self._section()}/index.html") + f"#{anchor}"
+            note = "" if waiting else f' <span class="stale">({escape(t["render_failed"])})</span>'
+            link = f'<a href="{gallery}">{escape(self.clip_title(name))}</a>'
+            out.append(f"<figcaption>{link}{note}</figcaption>")
         out.append("</figure>")
         return "\n".join(out)
 
@@ -186,8 +236,8 @@ class SimsIntegration(Integration):
             name = arg.strip()
             if name in self.results:
                 return self.video_html(name, root_prefix(node.url))
-            if name in self.failed:
-                raise LookupError(f"clip '{name}' has no render: {self.failed[name]}")
+            if name in self.failed or name in self.pending:
+                return self.placeholder_html(name, root_prefix(node.url))
             known = ", ".join(c.name for c in self.sims.clips) or "none configured"
             raise LookupError(f"no clip named '{name}' in sitegen.yml (known: {known})")
 
@@ -201,23 +251,29 @@ class SimsIntegration(Integration):
         for clip in self.sims.clips:
             anchor = f"clip-{clip.name}"
             if clip.name not in self.results:
+                toc.append(
+                    {"id": f"{anchor}-h", "title": self.clip_title(clip.name), "children": []}
+                )
+                heading = f'<h2 id="{escape(anchor)}-h">{escape(self.clip_title(clip.name))}</h2>'
                 parts.append(
-                    f'<section class="gallery-item"><h2 id="{escape(anchor)}-missing">{escape(clip.name)}</h2>'
-                    f'<p class="stale">{escape(self.failed.get(clip.name, "not rendered"))}</p></section>'
+                    f'<section class="gallery-item">{heading}\n'
+                    f"{self.placeholder_html(clip.name, root, caption=False)}\n"
+                    f"{self._source_html(self._source_meta(clip), strings)}</section>"
                 )
                 continue
             r = self.results[clip.name]
             meta = r.meta
-            toc.append({"id": f"{anchor}-h", "title": clip.name, "children": []})
+            toc.append({"id": f"{anchor}-h", "title": self.clip_title(clip.name), "children": []})
             base = root + url_quote(f"clips/{clip.name}/")
             params = json.dumps(meta.get("params", {}), ensure_ascii=False, sort_keys=True)
             rows = [
                 (
                     strings["duration"],
-                    f"{float(meta.get('duration', 0)):.1f} s · {meta.get('frames', '?')} frames · "
+                    f"{float(meta.get('duration', 0)):.1f} {strings['seconds_unit']} · "
+                    f"{meta.get('frames', '?')} {strings['frames']} · "
                     f"{meta.get('width')}×{meta.get('height')} @ {meta.get('fps')} fps",
                 ),
-                (strings["parameters"], f"seed {meta.get('seed')} · {params}"),
+                (strings["parameters"], f"{strings['seed']} {meta.get('seed')} · {params}"),
                 (strings["renderer"], str(meta.get("renderer", ""))),
             ]
             dl = "".join(f"<dt>{escape(k)}</dt><dd>{escape(v)}</dd>" for k, v in rows)
@@ -228,14 +284,18 @@ class SimsIntegration(Integration):
             )
             dl += f"<dt>{escape(strings['downloads'])}</dt><dd>{downloads}</dd>"
             plot = (
-                f'<img class="plot" src="{base}path.svg" alt="{escape(strings["trajectory"])}: {escape(clip.name)}" loading="lazy">'
+                f'<img class="plot" src="{base}path.svg" '
+                f'alt="{escape(strings["trajectory"])}: {escape(clip.name)}" loading="lazy">'
                 if self._has(clip.name, "plot")
                 else ""
             )
+            heading = f'<h2 id="{escape(anchor)}-h">{escape(self.clip_title(clip.name))}</h2>'
+            description = escape(str(meta.get("description", "")))
+            source = self._source_html(self._source_meta(clip, meta), strings)
             parts.append(
-                f'<section class="gallery-item"><h2 id="{escape(anchor)}-h">{escape(clip.name)}</h2>\n'
-                f"{self.video_html(clip.name, root, caption=False)}\n<p>{escape(str(meta.get('description', '')))}</p>\n"
-                f"<dl>{dl}</dl>\n{plot}\n{self._source_html(meta, strings)}</section>"
+                f'<section class="gallery-item">{heading}\n'
+                f"{self.video_html(clip.name, root, caption=False)}\n<p>{description}</p>\n"
+                f"<dl>{dl}</dl>\n{plot}\n{source}</section>"
             )
             # the figure carries id clip-NAME, so directive captions link straight to it
         body = "\n".join(parts)
@@ -252,6 +312,20 @@ class SimsIntegration(Integration):
                 digest=hashlib.sha256(body.encode()).hexdigest(),
             )
         ]
+
+    def _source_meta(self, clip: ClipConfig, meta: dict | None = None) -> dict:
+        """Where the clip's source is: a script named in sitegen.yml, else the render's meta."""
+        if clip.script is not None:
+            return {"source": self._relative(clip.script)}
+        if meta is None and clip.scenario:
+            try:
+                from sims.cache import display_path
+                from sims.scenarios import get_scenario
+
+                return {"source": display_path(get_scenario(clip.scenario).source_path)}
+            except (KeyError, ImportError):
+                return {}
+        return meta or {}
 
     def _source_html(self, meta: dict, strings: dict[str, str]) -> str:
         from pygments import highlight
@@ -273,6 +347,7 @@ class SimsIntegration(Integration):
             HtmlFormatter(cssclass="highlight", wrapcode=True),
         )
         return (
-            f"<details><summary>{escape(strings['source'])}: <code>{escape(str(path))}</code></summary>\n"
+            f"<details><summary>{escape(strings['source'])}: "
+            f"<code>{escape(str(path))}</code></summary>\n"
             f"{code}</details>"
         )

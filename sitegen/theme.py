@@ -8,6 +8,7 @@ file there replaces the default of the same name.
 from __future__ import annotations
 
 import hashlib
+import re
 from importlib import resources
 from pathlib import Path
 from urllib.parse import quote
@@ -30,8 +31,28 @@ def default_theme_dir() -> Path:
 def pygments_css() -> str:
     """Light and dark code colours, generated from Pygments so they match its markup."""
     light = HtmlFormatter(style="default").get_style_defs(".highlight")
-    dark = HtmlFormatter(style="monokai").get_style_defs(".highlight")
-    return f"{light}\n@media (prefers-color-scheme: dark) {{\n{dark}\n}}\n"
+    # dark when the reader chose it, or the system is dark and the reader did not choose light
+    dark = HtmlFormatter(style="monokai").get_style_defs("[data-theme=dark] .highlight")
+    auto = HtmlFormatter(style="monokai").get_style_defs(":root:not([data-theme=light]) .highlight")
+    css = f"{light}\n{dark}\n@media (prefers-color-scheme: dark) {{\n{auto}\n}}\n"
+    css = re.sub(r"(\.highlight \{ )background: [^;]*; ", r"\1", css)  # the theme's panel shows
+    return re.sub(r" */\*.*?\*/", "", css)  # Pygments' comments: a third of the bytes
+
+
+def shrink(suffix: str, data: bytes) -> bytes:
+    """Comments and indentation out of the theme's CSS and JS: every page loads them.
+
+    Only what is safe without a parser: CSS block comments, whole-line ``//`` comments and
+    leading spaces in JS (the theme's scripts hold no multi-line strings).
+    """
+    if suffix not in (".css", ".js"):
+        return data
+    text = data.decode("utf-8")
+    if suffix == ".css":
+        text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)
+    lines = (line.strip() for line in text.split("\n"))
+    kept = [x for x in lines if x and not (suffix == ".js" and x.startswith("//"))]
+    return ("\n".join(kept) + "\n").encode("utf-8")
 
 
 class Theme:
@@ -44,6 +65,8 @@ class Theme:
             trim_blocks=False,
             keep_trailing_newline=True,
         )
+        # tojson for scripts (assets/nav.js): UTF-8 text is smaller than \u escapes
+        self.env.policies["json.dumps_kwargs"] = {"sort_keys": True, "ensure_ascii": False}
         self.env.filters["u"] = lambda path: quote(str(path), safe="/#-._~!$&'()*+,;=:@%")
 
     def assets(self) -> dict[str, bytes]:
@@ -54,7 +77,8 @@ class Theme:
             if folder.is_dir():
                 for f in sorted(folder.rglob("*")):
                     if f.is_file() and not f.name.startswith("."):
-                        out[f"assets/{f.relative_to(folder).as_posix()}"] = f.read_bytes()
+                        data = shrink(f.suffix, f.read_bytes())
+                        out[f"assets/{f.relative_to(folder).as_posix()}"] = data
         out["assets/pygments.css"] = pygments_css().encode()
         return out
 

@@ -1,11 +1,12 @@
-"""Test setup: helpers importable, and no silent skips under CI.
+"""Test setup: the helper modules (``sitegen_helpers``, ``shared_data``) importable.
 
-Several tests read the course's shared data (``../shared``: the real roster, the course
-scripts, cmsimde sites). Locally they skip when it is absent; under CI a missing folder is an
-error, so a green run always means those tests ran.
+Tests that read the course's shared data (``../shared``: the real roster, the course scripts,
+cmsimde sites) ask for it through :func:`shared_data.shared` or the ``needs_shared`` mark:
+without the folder each such test skips with a reason naming the missing path; with ``CI`` set
+each one fails instead, so a green CI run means they ran. Every other test runs either way (the
+repository's own site needs nothing outside the repository).
 """
 
-import os
 import sys
 from pathlib import Path
 
@@ -13,9 +14,18 @@ import pytest
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-SHARED = HERE.parents[1] / "shared"
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    if os.environ.get("CI") and not (SHARED / "data").is_dir():
-        raise pytest.UsageError(f"CI is set but the course's shared data is missing: {SHARED}")
+    config.addinivalue_line(
+        "markers",
+        "needs_shared(*parts): the test reads ../shared/<parts>; skips without it, fails under CI",
+    )
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    """``@pytest.mark.needs_shared("data", "x.txt")``: checked per test, when it runs."""
+    from shared_data import shared
+
+    for mark in item.iter_markers(name="needs_shared"):
+        shared(*mark.args)

@@ -13,7 +13,7 @@ import re
 import shutil
 import threading
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
-from urllib.parse import urlsplit
+from urllib.parse import unquote, urlsplit
 
 import pytest
 from sitegen_helpers import REPO, run_build
@@ -53,10 +53,16 @@ class _Quiet(SimpleHTTPRequestHandler):
 
 
 @pytest.fixture(scope="module")
-def site_url(tmp_path_factory):
+def repo_site(tmp_path_factory):
     _require_browser()
     out = tmp_path_factory.mktemp("browser") / "site"
     run_build(REPO, out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def site_url(repo_site):
+    out = repo_site
     server = ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(out)))
     threading.Thread(target=server.serve_forever, daemon=True).start()
     yield f"http://127.0.0.1:{server.server_address[1]}/"
@@ -116,14 +122,14 @@ def test_menu_navigation_to_a_week_page_and_prev_next(page, site_url):
     page.locator("#nav a", has_text=re.compile(r"^Stage 1")).first.click()
     page.locator("#nav a", has_text=re.compile(r"^W1\b")).first.click()
     assert re.search(r"/stage-1/w1/index\.html$", page.url)
-    title = page.locator("article h1").inner_text()
+    title = page.locator("main > h1").inner_text()
     assert title.startswith("W1")
     shot(page, "week-page")
     page.locator(".pager a.next").first.click()
-    next_title = page.locator("article h1").inner_text()
+    next_title = page.locator("main > h1").inner_text()
     assert next_title != title
     page.locator(".pager a.prev").first.click()
-    assert page.locator("article h1").inner_text() == title
+    assert page.locator("main > h1").inner_text() == title
 
 
 def test_site_map_lists_every_page(page, site_url):
@@ -139,8 +145,8 @@ def test_search_finds_chinese_word_in_running_text(page, site_url):
     page.goto(site_url + "index.html")
     page.fill(".topbar input[name=q]", "齒輪")
     page.press(".topbar input[name=q]", "Enter")
-    page.wait_for_selector("#search-results li")
-    results = page.locator("#search-results li a")
+    page.wait_for_selector("#search-results .sr-page")
+    results = page.locator("#search-results a.sr-title")
     assert results.count() >= 1
     first = results.first.get_attribute("href")
     shot(page, "search")
@@ -205,3 +211,51 @@ def test_phone_viewport_never_scrolls_sideways(browser, site_url):
     assert pg.locator("#nav").is_visible()
     shot(pg, "phone")
     context.close()
+
+
+@pytest.mark.parametrize("size", ["wide", "phone"])
+def test_gallery_from_file_has_no_gap_above_the_first_clip_and_plays(browser, repo_site, size):
+    """Opened from disk: the gallery's contents box no longer pushes the first video down."""
+    from browser_kit import SIZES, open_page
+
+    with open_page(browser, SIZES[size], repo_site) as pg:
+        pg.goto((repo_site / "gallery/index.html").as_uri())
+        heading = pg.locator(".gallery-item h2").first.bounding_box()
+        video = pg.locator(".gallery-item video").first
+        box = video.bounding_box()
+        assert box["y"] - (heading["y"] + heading["height"]) < 48, (heading, box)
+        video.evaluate("v => { v.muted = true; return v.play(); }")
+        pg.wait_for_function(
+            "v => v.readyState >= 2 && v.currentTime > 0.2",
+            arg=video.element_handle(),
+            timeout=20000,
+        )
+        wide = pg.evaluate("document.documentElement.scrollWidth - innerWidth")
+        assert wide <= 0
+
+
+@pytest.mark.parametrize("size", ["wide", "phone"])
+def test_week_page_with_a_clip_from_file(browser, repo_site, size):
+    from browser_kit import SIZES, open_page
+
+    with open_page(browser, SIZES[size], repo_site) as pg:
+        pg.goto((repo_site / "index.html").as_uri())
+        assert pg.locator("#nav li.current").count() == 1
+        pg.goto((repo_site / "sitemap.html").as_uri())
+        hrefs = [a.get_attribute("href") for a in pg.locator(".sitemap a").all()]
+        with_clip = 0
+        for href in (h for h in hrefs if h.startswith("stage-2/w7/")):
+            pg.goto((repo_site / unquote(href)).as_uri())
+            with_clip += pg.locator("figure.clip video").count()
+            assert pg.locator('#nav [aria-current="page"]').count() == 1
+        assert with_clip >= 1
+
+
+def test_roster_page_speaks_the_site_language(page, site_url):
+    page.goto(site_url + "sitemap.html")
+    page.locator(".sitemap a", has_text="分組名單").first.click()
+    summary = page.locator(".roster-summary").inner_text()
+    assert re.fullmatch(r"\d+ 組, \d+ 位組員", summary), summary
+    assert page.locator(".roster-leader").first.inner_text() == "(組長)"
+    assert "倉儲" in page.locator(".roster-group-links").first.inner_text()
+    assert "members" not in page.locator("main").inner_text()

@@ -11,7 +11,10 @@ from roster import RosterError, load_roster
 
 FIXTURES = Path(__file__).parent / "fixtures" / "roster"
 
-ROSTER = "stage3_ag1\t4823122\t4823122\t40823112\t40823112\nstage3_ag2\t40823113\t40823113\t40823114\t40823114\n"
+ROSTER = (
+    "stage3_ag1\t4823122\t4823122\t40823112\t40823112\n"
+    "stage3_ag2\t40823113\t40823113\t40823114\t40823114\n"
+)
 
 
 def setup(tmp_path: Path, corrections: str, roster: str = ROSTER) -> tuple[Path, Path]:
@@ -45,19 +48,22 @@ def test_each_correction_is_applied_and_reported_with_roster_location(tmp_path: 
     ]
     assert (g1.name, g2.name, g2.leader) == ("stage3-ag1", "stage3-ag2", "40823114")
     applied = [str(d) for d in r.corrections_applied]
+    one, two = f"{roster}:1: info:", f"{roster}:2: info:"
     assert applied == [
-        f"{roster}:1: member 1 id (col 2): typo: id '4823122' -> '40823122' [{fix}:2]",
-        f"{roster}:1: member 1 account (col 3): typo: account '4823122' -> '40823122' [{fix}:2]",
-        f"{roster}:1: member 2 account (col 5): alias: account of 40823112 '40823112' -> 'a40823112' [{fix}:4]",
-        f"{roster}:1: group name (col 1): group name 'stage3_ag1' -> 'stage3-ag1' [{fix}:6]",
-        f"{roster}:2: group name (col 1): group name 'stage3_ag2' -> 'stage3-ag2' [{fix}:6]",
-        f"{roster}:2: group name (col 1): leader of stage3-ag2: 40823114 (was 40823113) [{fix}:8]",
+        f"{one} member 1 id (col 2): typo: id '4823122' -> '40823122' [{fix}:2]",
+        f"{one} member 1 account (col 3): typo: account '4823122' -> '40823122' [{fix}:2]",
+        f"{one} member 2 account (col 5): "
+        f"alias: account of 40823112 '40823112' -> 'a40823112' [{fix}:4]",
+        f"{one} group name (col 1): group name 'stage3_ag1' -> 'stage3-ag1' [{fix}:6]",
+        f"{two} group name (col 1): group name 'stage3_ag2' -> 'stage3-ag2' [{fix}:6]",
+        f"{two} group name (col 1): leader of stage3-ag2: 40823114 (was 40823113) [{fix}:8]",
     ]
     assert r.to_dict()["groups"][1]["repo_url"] == "https://github.com/40823114/stage3-ag2"
 
 
 def test_typo_is_exact_not_substring(tmp_path: Path) -> None:
-    """The course script replaced substrings on whole lines; '14823122' must not become '140823122'."""
+    """The course script replaced substrings on whole lines: '14823122' must not become
+    '140823122'."""
     roster, fix = setup(tmp_path, 'typos: {"4823122": "40823122"}\n', "g\t14823122\t14823122\n")
     r = load_roster(roster, corrections=fix)
     assert r.roster.members[0].id == "14823122"
@@ -90,7 +96,10 @@ leaders:
 
 
 def test_regex_rules_apply_in_order(tmp_path: Path) -> None:
-    text = 'group_names:\n  - {regex: "^stage(\\\\d)_", with: "s\\\\1-"}\n  - {replace: "s3-", with: "S3-"}\n'
+    text = (
+        'group_names:\n  - {regex: "^stage(\\\\d)_", with: "s\\\\1-"}\n'
+        '  - {replace: "s3-", with: "S3-"}\n'
+    )
     roster, fix = setup(tmp_path, text)
     r = load_roster(roster, corrections=fix)
     assert [g.name for g in r.roster.groups] == ["S3-ag1", "S3-ag2"]
@@ -122,7 +131,8 @@ def test_bad_corrections_file_errors_name_key_and_line() -> None:
     assert (
         3,
         "aliasses",
-        "unknown key 'aliasses' (expected one of: typos, aliases, group_names, leaders, expected_ids)",
+        "unknown key 'aliasses' "
+        "(expected one of: typos, aliases, group_names, leaders, expected_ids, marks)",
     ) in errs
     assert any(line == 6 and field == "group_names[1]" for line, field, _ in errs)
     assert any(
@@ -174,9 +184,21 @@ def test_missing_corrections_file_is_a_roster_error(tmp_path: Path) -> None:
 
 
 def test_empty_corrections_file_is_fine(tmp_path: Path) -> None:
+    """An empty file is read (and named) without complaint; the same file, once it holds a rule,
+    changes the roster -- so "no complaint" is not "the file was never looked at"."""
     roster, fix = setup(tmp_path, "# nothing yet\n")
     r = load_roster(roster, corrections=fix)
+    assert r.corrections_file == str(fix)
     assert [d for d in r.diagnostics if d.file == str(fix)] == []
+    assert r.corrections_applied == []
+    assert [g.name for g in r.roster.groups] == ["stage3_ag1", "stage3_ag2"]
+    fix.write_text('# nothing yet\ngroup_names:\n  - {replace: "_", with: "-"}\n', encoding="utf-8")
+    r = load_roster(roster, corrections=fix)
+    assert [g.name for g in r.roster.groups] == ["stage3-ag1", "stage3-ag2"]
+    assert [(d.line, d.message) for d in r.corrections_applied] == [
+        (1, f"group name 'stage3_ag1' -> 'stage3-ag1' [{fix}:3]"),
+        (2, f"group name 'stage3_ag2' -> 'stage3-ag2' [{fix}:3]"),
+    ]
 
 
 def test_corrections_can_fix_what_would_be_an_error(tmp_path: Path) -> None:

@@ -33,8 +33,21 @@ A = ("a", [("1", "1"), ("2", "2"), ("3", "3")])
 B = ("b", [("4", "4"), ("5", "5")])
 
 
-def test_no_changes() -> None:
-    assert diff(roster(A, B), roster(A, B)) == []
+def test_no_changes_and_each_single_edit_is_one_line() -> None:
+    """Nothing changed -> no lines; reordering is not a change. Each single edit of the same
+    roster is exactly its one line, so a diff that never reports anything fails here."""
+    same = roster(A, B, leaders={"a": "1", "b": "4"})
+    assert diff(same, roster(A, B, leaders={"a": "1", "b": "4"})) == []
+    shuffled = ("a", [("3", "3"), ("1", "1"), ("2", "2")])
+    assert diff(same, roster(B, shuffled, leaders={"a": "1", "b": "4"})) == []
+    edits = {
+        "account changed: 5: 5 -> x5": roster(A, ("b", [("4", "4"), ("5", "x5")])),
+        "leader changed in b: 4 -> 5": roster(A, B, leaders={"a": "1", "b": "5"}),
+        "member removed: 3 (was in a)": roster(("a", [("1", "1"), ("2", "2")]), B),
+        "member added: 7 (7) in b": roster(A, ("b", [("4", "4"), ("5", "5"), ("7", "7")])),
+    }
+    for line, edited in edits.items():
+        assert diff(same, edited) == [line]
 
 
 def test_member_added_removed_moved_and_account_changed() -> None:

@@ -50,20 +50,20 @@ def test_messy_fixture_reports_what_it_tolerated() -> None:
     r = load_roster(FIXTURES / "messy.txt", corrections=False)
     infos = [str(d) for d in r.infos]
     file = str(FIXTURES / "messy.txt")
-    assert f"{file}:1: file: UTF-8 byte-order mark removed" in infos
-    assert f"{file}:1: file: CRLF line endings normalised (4 lines)" in infos
-    assert f"{file}:2: line: blank line skipped" in infos
-    assert f"{file}:1: line: empty member slot(s) 2 skipped" in infos
-    assert f"{file}:4: line: empty member slot(s) 3-4 skipped" in infos
+    assert f"{file}:1: info: file: UTF-8 byte-order mark removed" in infos
+    assert f"{file}:1: info: file: CRLF line endings normalised (4 lines)" in infos
+    assert f"{file}:2: info: line: blank line skipped" in infos
+    assert f"{file}:1: info: line: empty member slot(s) 2 skipped" in infos
+    assert f"{file}:4: info: line: empty member slot(s) 3-4 skipped" in infos
     assert any("spaces around 2 value(s) trimmed" in d for d in infos)
     warnings = [str(d) for d in r.warnings]
     assert (
-        f"{file}:1: member 1 id (col 2): annotation '*' beside 40823101 kept as a member note"
-        in warnings
+        f"{file}:1: warning: member 1 id (col 2): "
+        "annotation '*' beside 40823101 kept as a member note" in warnings
     )
     assert (
-        f"{file}:3: member 2 account (col 5): odd trailing id with no account for 40823104; "
-        "the account defaults to the id" in warnings
+        f"{file}:3: warning: member 2 account (col 5): "
+        "odd trailing id with no account for 40823104; the account defaults to the id" in warnings
     )
 
 
@@ -159,7 +159,7 @@ def test_non_id_in_id_field_is_an_error_with_location(tmp_path: Path) -> None:
     assert (e.file, e.line, e.field) == (str(tmp_path / "r.txt"), 3, "member 2 id (col 4)")
     assert "'hello' is not a student id" in e.message
     assert "40823103" in e.message  # the account on that slot is not silently lost
-    assert str(e).startswith(f"{tmp_path / 'r.txt'}:3: member 2 id (col 4): ")
+    assert str(e).startswith(f"{tmp_path / 'r.txt'}:3: error: member 2 id (col 4): ")
 
 
 @pytest.mark.parametrize(
@@ -226,7 +226,7 @@ def test_unsupported_extension_is_a_clear_roster_error(tmp_path: Path) -> None:
 def test_missing_file_is_a_roster_error(tmp_path: Path) -> None:
     with pytest.raises(RosterError) as info:
         load_roster(tmp_path / "nope.txt")
-    assert str(info.value) == f"{tmp_path / 'nope.txt'}:0: file: no such file"
+    assert str(info.value) == f"{tmp_path / 'nope.txt'}: error: file: no such file"
 
 
 def test_directory_is_a_roster_error(tmp_path: Path) -> None:

@@ -23,7 +23,7 @@ SCRIPT = SHARED / "seeds" / "scripts" / "task1_roster_links.py"
 FIXTURES = Path(__file__).parent / "fixtures" / "roster"
 CORRECTIONS = FIXTURES / "stage3_2a.corrections.yml"
 
-pytestmark = pytest.mark.skipif(not REAL.exists(), reason="shared course data not present")
+pytestmark = pytest.mark.needs_shared("data", "stage3_2a.txt")
 
 HREF = re.compile(r'href="([^"]*)"')
 
@@ -108,8 +108,9 @@ def test_without_corrections_the_unexplained_account_is_warned() -> None:
     assert bare.errors == []
     msgs = [str(d) for d in bare.warnings if "differs from id" in d.message]
     assert msgs == [
-        f"{REAL}:1: member 2 account (col 5): account 'a40823112' differs from id 40823112 "
-        "with no alias; add an alias to the corrections file if it is right"
+        f"{REAL}:1: warning: member 2 account (col 5): "
+        "account 'a40823112' differs from id 40823112 with no alias; "
+        "add an alias to the corrections file if it is right"
     ]
     assert [g.name for g in bare.roster.groups][0] == "stage3_ag1"
 

@@ -145,8 +145,10 @@ def test_account_differing_from_id_without_alias(tmp_path: Path) -> None:
 
 
 def test_account_that_is_another_id_hints_at_a_missing_column(tmp_path: Path) -> None:
-    r = load(tmp_path, "g\t40823101\t40823102\t40823103\t40823104\n")
-    assert "is a column missing" in r.warnings[0].message
+    # one account among ordinary ones: a paired file with a slip, warned per member
+    r = load(tmp_path, "g\t40823101\t40823102\t40823103\t40823103\t40823105\tann\n")
+    assert r.layout == "paired"
+    assert "is a column missing" in only(r.warnings, "differs from id 40823101").message
 
 
 def test_shared_account_is_warned(tmp_path: Path) -> None:

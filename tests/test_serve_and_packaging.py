@@ -74,6 +74,12 @@ def test_wheel_contains_theme_and_all_packages(tmp_path):
     for needed in (
         "sitegen/_theme/base.html",
         "sitegen/_theme/assets/search.js",
+        "sitegen/_theme/assets/favicon.svg",
+        "sitegen/_theme/nav.js",
+        "sitegen/_theme/menu.html",
+        "sitegen/starter/sitegen.yml",
+        "sitegen/starter/content/stage-1/w1/cart.svg",
+        "sitegen/starter/github/workflows/pages.yml",
         "sitegen/cli.py",
         "roster/__init__.py",
         "sims/world.py",

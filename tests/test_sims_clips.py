@@ -81,7 +81,7 @@ def test_every_clip_renders_and_decodes(gallery):
         assert r.meta["renderer"] in ("egl", "tinyrenderer")
         assert r.meta["source"].startswith("sims/scenarios/")
         assert r.meta["description"] == get_scenario(r.name).description
-    statuses = sorted((e.name, e.status) for e in events)
+    statuses = sorted((e.name, e.status) for e in events if e.status not in ("progress", "queued"))
     assert statuses == sorted([(s.name, st) for s in specs for st in ("started", "done")])
 
 
@@ -153,14 +153,15 @@ def test_a_clip_past_its_time_limit_is_stopped(tmp_path):
     start = time.perf_counter()
     result = render_clips([spec], tmp_path, timeout=1.0)[0]
     assert time.perf_counter() - start < 10
-    assert not result.ok and "time limit" in result.error and "cart-reverse" in result.error
+    assert not result.ok and "wall-clock limit" in result.error and "cart-reverse" in result.error
+    assert "worker killed" in result.error
 
 
 def test_a_stepping_clip_past_its_time_limit_stops_itself(tmp_path):
     register_source_kind("test-endless", "test_sims_clips:endless_plan")
     spec = ClipSpec("endless", "cart-reverse", W, H, FPS, seconds=10_000, kind="test-endless")
     result = render_clips([spec], tmp_path, timeout=1.5)[0]
-    assert not result.ok and "passed its time limit of 1.5 s" in result.error
+    assert not result.ok and "passed its wall-clock limit of 1.5 s" in result.error
     assert "worker killed" not in result.error  # the Recorder's own deadline stopped it
 
 

@@ -32,19 +32,24 @@ def test_names_and_handles_are_stable_across_reset():
 def test_saved_pose_in_coppeliasim_convention():
     with World("2w1a") as w:
         degrees = [math.degrees(w.joint_position(j)) for j in ARM]
-        assert degrees == pytest.approx([150.0, 120.0, 250.0], abs=1e-6)
+        assert degrees == pytest.approx([150.0, 120.0, 250.0], abs=1e-4)  # saved as float32
         (x, y, z), _ = w.object_pose("2W1A")
-        assert (x, y, z) == pytest.approx((-0.0201, 0.0, 0.070), abs=1e-6)
+        assert (x, y, z) == pytest.approx((-0.0201, 0.0, 0.070), abs=1e-4)  # 2w1a.ttt: -0.020125
+        for joint, deg in zip(ARM, (150.0, 120.0, 250.0), strict=True):
+            # hold the saved pose: the scene's saved targets (12, 152, 3 deg) move the arm
+            w.set_joint_target_position(joint, math.radians(deg))
         w.advance(0.5)
-        robot = w.model.objects[0].body
-        foot_bottom = p.getAABB(robot, 4, physicsClientId=w.client_id)[0][2]
+        hand = next(o for o in w.model.objects if o.name == "HandRespondable")
+        foot_bottom = p.getAABB(hand.body, hand.link, physicsClientId=w.client_id)[0][2]
         assert abs(foot_bottom) < 0.003  # the hand's foot rests on the floor
         assert [math.degrees(w.joint_position(j)) for j in ARM] == pytest.approx(
             [150.0, 120.0, 250.0], abs=TOLERANCE_DEG
         )
 
 
-@pytest.mark.parametrize("targets", [(68, 291, 32), (130, 60, 253), (230, 241, 194)])
+# (68, 291, 32) folds the arm into the body: the scene's self-collision stops it (see
+# tests/test_scene_world_course.py); these targets are free
+@pytest.mark.parametrize("targets", [(68, 200, 32), (130, 60, 253), (230, 241, 194)])
 def test_arm_reaches_commanded_targets(targets):
     with World("2w1a") as w:
         for joint, deg in zip(ARM, targets, strict=True):

@@ -8,7 +8,8 @@ import shutil
 from pathlib import Path
 
 import pytest
-from sitegen_helpers import SHARED, run_build, run_cli, write_tree
+from shared_data import shared
+from sitegen_helpers import run_build, run_cli, write_tree
 
 from sitegen.check import check_site
 from sitegen.errors import BuildError
@@ -16,7 +17,8 @@ from sitegen.errors import BuildError
 ROSTER_CFG = """title: t
 course_repo: cd2021
 rosters:
-  - {name: stage3-2a, title: Stage 3 groups, file: data/roster.txt, corrections: data/fix.yml, section: stage-3/grouping}
+  - {name: stage3-2a, title: Stage 3 groups, file: data/roster.txt,
+     corrections: data/fix.yml, section: stage-3/grouping}
 """
 FIX = 'aliases:\n  "40823112": "a40823112"\ngroup_names:\n  - {replace: "_", with: "-"}\n'
 
@@ -27,7 +29,7 @@ def roster_project(tmp_path: Path) -> Path:
         tmp_path / "p",
         {
             "sitegen.yml": ROSTER_CFG,
-            "data/roster.txt": (SHARED / "data/stage3_2a.txt").read_text(encoding="utf-8"),
+            "data/roster.txt": shared("data", "stage3_2a.txt").read_text(encoding="utf-8"),
             "data/fix.yml": FIX,
             "content/index.md": "# Home\n",
             "content/stage-3/grouping/index.md": "# Stage 3 分組\n",

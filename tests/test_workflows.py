@@ -1,13 +1,22 @@
-"""The GitHub Actions workflows: CI runs the README's test command; Pages builds strictly and deploys.
+"""The GitHub Actions workflows work: their commands run here, and the GitHub-only parts that
+matter are set up right.
 
-The workflows only run on GitHub, so these tests read them as data and check what matters:
-triggers, the commands, the clip cache, the Pages permissions and jobs, and pinned actions.
+Checking a workflow's text (this step contains that string) passes while the commands fail,
+so this runs the ``run:`` steps of ``ci.yml`` and ``pages.yml`` in order, with bash, in a
+temporary copy of the repository (the files git tracks or would track) beside a ``shared``
+folder, as GitHub would. Steps that only GitHub can run (``uses:`` actions: checkout,
+setup-python, cache, Pages upload and deploy) are skipped; the few commands that would change
+this machine or take many minutes run in a local form, each named in :data:`LOCAL` with why.
+What only GitHub checks is tested as structure: the Pages deploy permissions and job, and the
+clip cache key.
 """
 
 from __future__ import annotations
 
+import os
 import re
-import warnings
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -17,45 +26,38 @@ REPO = Path(__file__).resolve().parents[1]
 WORKFLOWS = REPO / ".github" / "workflows"
 CI = WORKFLOWS / "ci.yml"
 PAGES = WORKFLOWS / "pages.yml"
+SHARED = REPO.parent / "shared"
 
-# The block README.md opens with (used only while README.md has no fenced block yet).
-EXPECTED_README_BLOCK = [
-    "python3 -m pip install -e . && sitegen build",
-    "bash .ci/setup && python3 -m pytest -q",
-]
-README_HEAD_LINES = 40
-
-# Oldest major version of each action we accept (older ones are deprecated or shut down).
-MIN_MAJOR = {
-    "actions/checkout": 4,
-    "actions/setup-python": 5,
-    "actions/cache": 4,
-    "actions/upload-artifact": 4,
-    "actions/configure-pages": 5,
-    "actions/upload-pages-artifact": 3,
-    "actions/deploy-pages": 4,
+# Command fragment -> (the local form, why). Anything else in a run: step runs unchanged.
+LOCAL = {
+    "bash .ci/setup": (
+        "bash -n .ci/setup",
+        "installing would re-point this machine's editable install at the copy: syntax only",
+    ),
+    "python3 -m pytest -q": (
+        "python3 -m pytest -q --collect-only -p no:cacheprovider",
+        "the whole suite is what runs this test: every test module must import and collect",
+    ),
+    "python3 -m pip install -q -e .": (
+        "python3 -m pip install -q --dry-run --no-deps -e .",
+        "the package must build and resolve; installing it would re-point this machine's install",
+    ),
 }
-PINNED = re.compile(
-    r"^(?P<action>[\w.-]+/[\w./-]+)@(?P<ref>v(?P<major>\d+)(\.\d+){0,2}|[0-9a-f]{40})$"
-)
+# Lines dropped from run: steps: system packages need root and GitHub's runner.
+DROPPED = re.compile(r"^\s*sudo\s")
+# ${{ expression }} -> value here (GitHub fills these in).
+EXPRESSIONS = {
+    "vars.SHARED_REPO": "local/shared" if SHARED.is_dir() else "",
+    "steps.pages.outputs.base_url": "",
+}
 
 
 def load(path: Path) -> dict:
     data = yaml.safe_load(path.read_text(encoding="utf-8"))
     assert isinstance(data, dict), f"{path.name}: not a mapping"
-    # YAML 1.1 (PyYAML) reads the key `on` as the boolean True.
-    if True in data:
+    if True in data:  # YAML 1.1 reads the key `on` as True
         data["on"] = data.pop(True)
     return data
-
-
-def triggers(wf: dict) -> dict:
-    on = wf["on"]
-    if isinstance(on, str):
-        return {on: None}
-    if isinstance(on, list):
-        return dict.fromkeys(on)
-    return dict(on)
 
 
 def steps(wf: dict, job: str | None = None) -> list[dict]:
@@ -67,184 +69,182 @@ def uses(step: dict) -> str:
     return str(step.get("uses", "")).split("@")[0]
 
 
-def step_using(wf: dict, action: str, job: str | None = None) -> list[dict]:
-    return [s for s in steps(wf, job) if uses(s) == action]
+def _expand(text: str) -> str:
+    def value(m: re.Match) -> str:
+        expr = m.group(1).strip()
+        if expr not in EXPRESSIONS:
+            raise AssertionError(f"no local value for ${{{{ {expr} }}}}: add it to EXPRESSIONS")
+        return EXPRESSIONS[expr]
+
+    return re.sub(r"\$\{\{(.*?)\}\}", value, text)
 
 
-def runs(wf: dict, job: str | None = None) -> list[str]:
-    return [str(s["run"]) for s in steps(wf, job) if "run" in s]
+def local_script(run: str) -> str:
+    lines = [line for line in run.splitlines() if not DROPPED.match(line)]
+    script = "\n".join(lines)
+    for fragment, (local, _why) in LOCAL.items():
+        script = script.replace(fragment, local)
+    return _expand(script)
 
 
-def run_index(wf: dict, job: str, needle: str) -> int:
-    for i, s in enumerate(steps(wf, job)):
-        if needle in str(s.get("run", "")):
-            return i
-    raise AssertionError(f"no run step in job {job!r} contains {needle!r}")
+def _shorten_clips(copy: Path) -> None:
+    """The Pages build renders every clip of sitegen.yml: minutes of CPU. Here each clip is
+    one simulated second at a small size -- the steps still build, strictly, and check the
+    whole site; full-length rendering is tested in tests/test_sims_*."""
+    config = copy / "sitegen.yml"
+    data = yaml.safe_load(config.read_text(encoding="utf-8"))
+    sims = data.get("sims") or {}
+    sims["size"] = "160x120"
+    sims["fps"] = 10
+    for clip in sims.get("clips") or []:
+        clip["seconds"] = float(clip.get("after") or 0) + 1
+        clip["speed"] = 1
+    config.write_text(yaml.safe_dump(data, allow_unicode=True), encoding="utf-8")
 
 
-def readme_test_command() -> str:
-    """The line with `pytest` in the fenced block README.md opens with."""
-    head = (REPO / "README.md").read_text(encoding="utf-8").splitlines()[:README_HEAD_LINES]
-    fences = [i for i, line in enumerate(head) if line.lstrip().startswith("```")]
-    if len(fences) < 2:
-        warnings.warn(
-            "README.md has no fenced block in its first lines yet; using the expected one",
-            stacklevel=2,
-        )
-        block = EXPECTED_README_BLOCK
-    else:
-        block = [line.strip() for line in head[fences[0] + 1 : fences[1]] if line.strip()]
-    build = [line for line in block if line.endswith("sitegen build")]
-    test = [line for line in block if "pytest" in line]
-    assert build, f"README.md's first block has no command ending in 'sitegen build': {block}"
-    assert len(test) == 1, f"README.md's first block should have one pytest command: {block}"
-    return test[0].removeprefix("$ ").strip()
+# Outside a git checkout (an unpacked archive), these are not copied: what .gitignore names.
+UNTRACKED = {".git", "site", "build", "dist", ".sitegen-cache", "test-artifacts", "__pycache__"}
+
+
+def _repo_files() -> list[str]:
+    """The files a fresh clone would have (plus new ones git would add)."""
+    if (REPO / ".git").exists():
+        listed = subprocess.run(
+            ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+            cwd=REPO,
+            capture_output=True,
+            check=True,
+        ).stdout.split(b"\0")
+        return [os.fsdecode(name) for name in listed if name]
+    return [
+        path.relative_to(REPO).as_posix()
+        for path in REPO.rglob("*")
+        if path.is_file()
+        and not UNTRACKED & set(path.relative_to(REPO).parts)
+        and not any(part.endswith(".egg-info") for part in path.parts)
+    ]
+
+
+def _copy_repo(dest: Path) -> Path:
+    copy = dest / "repo"
+    for name in _repo_files():
+        src = REPO / name
+        if src.is_file():
+            target = copy / name
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, target)
+    return copy
+
+
+def _check_out_shared(copy: Path) -> None:
+    """What the workflows' checkout of the shared data leaves in the workspace (a link here;
+    the workflow's own step then moves it beside the repository)."""
+    if SHARED.is_dir() and not (copy / "shared").is_symlink():
+        (copy / "shared").symlink_to(SHARED, target_is_directory=True)
+
+
+def run_steps(wf_path: Path, copy: Path) -> list[str]:
+    """Run every run: step of the workflow in the copy; return the names of those skipped."""
+    wf = load(wf_path)
+    skipped = []
+    _check_out_shared(copy)
+    env = {**os.environ, **{k: str(v) for k, v in (wf.get("env") or {}).items()}}
+    for job_name, job in wf["jobs"].items():
+        job_env = {**env, **{k: str(v) for k, v in (job.get("env") or {}).items()}}
+        for step in job.get("steps", []):
+            name = step.get("name") or step.get("uses") or "?"
+            if "run" not in step:
+                skipped.append(f"{job_name}: {name}")
+                continue
+            step_env = {k: _expand(str(v)) for k, v in (step.get("env") or {}).items()}
+            proc = subprocess.run(
+                ["bash", "-eo", "pipefail", "-c", local_script(str(step["run"]))],
+                cwd=copy,
+                env={**job_env, **step_env},
+                capture_output=True,
+                text=True,
+                timeout=600,
+            )
+            assert proc.returncode == 0, (
+                f"{wf_path.name}: job {job_name}, step {name!r} failed ({proc.returncode}):\n"
+                f"{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
+            )
+    return skipped
 
 
 @pytest.fixture(scope="module")
-def ci() -> dict:
-    return load(CI)
+def copy(tmp_path_factory) -> Path:
+    return _copy_repo(tmp_path_factory.mktemp("workflows"))
 
 
-@pytest.fixture(scope="module")
-def pages() -> dict:
-    return load(PAGES)
+def test_ci_steps_run(copy: Path) -> None:
+    skipped = run_steps(CI, copy)
+    assert "test: Check out the repository" in skipped
+    if SHARED.is_dir():
+        assert (copy.parent / "shared" / "data").is_dir(), "shared data is not beside the repo"
 
 
-# --- CI -------------------------------------------------------------------------------------
+def test_pages_steps_build_and_check_the_site(copy: Path) -> None:
+    _shorten_clips(copy)
+    run_steps(PAGES, copy)
+    index = copy / "site" / "index.html"
+    assert index.is_file(), "the build step wrote no site/index.html"
+    assert "<html" in index.read_text(encoding="utf-8").lower()
 
 
-def test_ci_runs_on_every_push_and_pull_request(ci: dict) -> None:
-    on = triggers(ci)
-    assert "push" in on and "pull_request" in on
-    for event in ("push", "pull_request"):
-        filters = on[event] or {}
-        assert not set(filters) & {"branches", "paths", "tags"}, (
-            f"CI {event} is filtered: {filters}"
-        )
+def test_local_forms_are_used() -> None:
+    """Every local form stands for a command a workflow really runs (no stale entries)."""
+    text = CI.read_text(encoding="utf-8") + PAGES.read_text(encoding="utf-8")
+    for fragment in LOCAL:
+        assert fragment in text, f"LOCAL names {fragment!r}, which no workflow runs any more"
 
 
-def test_ci_runs_the_readme_test_command(ci: dict) -> None:
-    command = readme_test_command()
-    assert any(command in r for r in runs(ci)), f"no run step of ci.yml runs {command!r}"
-    env = {**ci.get("env", {}), **next(iter(ci["jobs"].values())).get("env", {})}
-    step = next(s for s in steps(ci) if command in str(s.get("run", "")))
-    env.update(step.get("env", {}))
-    assert str(env.get("CI", "")).lower() == "true", (
-        "CI=true makes the browser/shared tests fail, not skip"
-    )
+# --- what only GitHub runs: structure ----------------------------------------------------
 
 
-def test_ci_script_runs_the_readme_test_command() -> None:
-    command = readme_test_command()
-    assert command in (REPO / ".ci" / "run").read_text(encoding="utf-8")
+def test_ci_runs_on_every_push_and_pull_request_and_checks_style() -> None:
+    ci = load(CI)
+    assert {"push", "pull_request"} <= set(ci["on"])
+    commands = [str(s["run"]) for s in steps(ci) if "run" in s]
+    assert any("ruff check ." in r for r in commands)
+    assert any("ruff format --check ." in r for r in commands)
 
 
-def test_ci_lints_and_keeps_screenshots(ci: dict) -> None:
-    (job,) = ci["jobs"]
-    assert any(r.strip() == "ruff check ." for r in runs(ci))
-    assert run_index(ci, job, "pytest") < run_index(ci, job, "ruff check .")
-    (upload,) = step_using(ci, "actions/upload-artifact")
-    assert "always()" in str(upload.get("if", "")), "screenshots matter most when tests fail"
-    assert str(upload["with"]["path"]).rstrip("/") == "test-artifacts"
-
-
-def test_ci_sets_up_python_with_pip_cache(ci: dict) -> None:
-    (setup,) = step_using(ci, "actions/setup-python")
-    assert str(setup["with"]["python-version"]) == "3.11"
-    assert setup["with"].get("cache") == "pip"
-
-
-def _checks_out_shared_beside_repo(wf: dict) -> None:
-    shared = [s for s in step_using(wf, "actions/checkout") if "repository" in s.get("with", {})]
-    assert shared, "no checkout of the shared data repository"
-    (step,) = shared
-    assert "vars.SHARED_REPO" in str(step["with"]["repository"])
-    assert "SHARED_REPO" in str(step.get("if", "")), "skip the checkout when SHARED_REPO is unset"
-    inside = str(step["with"]["path"]).strip("/")
-    assert not inside.startswith(".."), "actions/checkout cannot write outside the workspace"
-    assert any(
-        re.search(rf"(mv|ln -s\w*) +{re.escape(inside)}/? +\.\./shared", r) for r in runs(wf)
-    ), "shared/ must end up at ../shared"
-    assert any("::warning" in r or "::notice" in r or "::error" in r for r in runs(wf)), (
-        "say clearly when SHARED_REPO is unset"
-    )
-
-
-def test_ci_puts_the_shared_data_beside_the_repo(ci: dict) -> None:
-    _checks_out_shared_beside_repo(ci)
-
-
-# --- Pages ----------------------------------------------------------------------------------
-
-
-def test_pages_runs_on_push_to_main_and_by_hand(pages: dict) -> None:
-    on = triggers(pages)
-    assert "workflow_dispatch" in on
-    assert "main" in (on["push"] or {}).get("branches", [])
-    assert "pull_request" not in on, "pull requests must not deploy"
-
-
-def test_pages_permissions_and_concurrency(pages: dict) -> None:
+def test_pages_can_deploy() -> None:
+    """Without pages: write and id-token: write, deploy-pages fails on GitHub only."""
+    pages = load(PAGES)
     assert pages["permissions"] == {"contents": "read", "pages": "write", "id-token": "write"}
-    assert pages["concurrency"]["group"] == "pages"
-    assert pages["concurrency"]["cancel-in-progress"] is False
-
-
-def test_pages_builds_strictly_then_checks_then_uploads_site(pages: dict) -> None:
-    build = run_index(pages, "build", "sitegen build")
-    assert "--strict" in steps(pages, "build")[build]["run"]
-    check = run_index(pages, "build", "sitegen check site")
-    (upload,) = step_using(pages, "actions/upload-pages-artifact", "build")
+    assert "pull_request" not in pages["on"], "pull requests must not deploy"
+    build = pages["jobs"]["build"]
+    (upload,) = [s for s in build["steps"] if uses(s) == "actions/upload-pages-artifact"]
     assert str(upload["with"]["path"]).rstrip("/") == "site"
-    assert build < check < steps(pages, "build").index(upload)
-    assert step_using(pages, "actions/configure-pages", "build")
-    installs = [r for r in runs(pages, "build") if "pip install" in r]
-    assert installs and all("-e ." in r for r in installs)
-
-
-def test_pages_caches_clips_by_content_hash(pages: dict) -> None:
-    (cache,) = step_using(pages, "actions/cache", "build")
-    opts = cache["with"]
-    assert str(opts["path"]).strip().rstrip("/") == ".sitegen-cache"
-    key = str(opts["key"])
-    assert "hashFiles(" in key
-    for pattern in ("sims/**/*.py", "sitegen.yml", "data/**"):
-        assert pattern in key, f"clip cache key ignores {pattern}"
-    prefix = key.split("${{")[0]
-    assert prefix and prefix in str(opts["restore-keys"]).split(), (
-        "restore-keys: a partial hit is safe"
-    )
-    assert steps(pages, "build").index(cache) < run_index(pages, "build", "sitegen build")
-
-
-def test_pages_deploy_job(pages: dict) -> None:
     deploy = pages["jobs"]["deploy"]
-    needs = deploy["needs"]
-    assert "build" in ([needs] if isinstance(needs, str) else needs)
+    assert "build" in ([deploy["needs"]] if isinstance(deploy["needs"], str) else deploy["needs"])
     assert deploy["environment"]["name"] == "github-pages"
-    (step,) = step_using(pages, "actions/deploy-pages", "deploy")
+    (step,) = [s for s in deploy["steps"] if uses(s) == "actions/deploy-pages"]
     assert f"steps.{step['id']}.outputs.page_url" in str(deploy["environment"]["url"])
 
 
-def test_pages_has_shared_data_when_the_config_needs_it(pages: dict) -> None:
-    if "../shared" not in (REPO / "sitegen.yml").read_text(encoding="utf-8"):
-        pytest.skip("sitegen.yml does not read ../shared")
-    _checks_out_shared_beside_repo(pages)
+def test_clip_cache_key_follows_what_clips_are_made_of() -> None:
+    """The key must change when the simulation code, the config or the scenes change (else a
+    stale clip is deployed), and a partial hit must be allowed (the cache is per clip)."""
+    pages = load(PAGES)
+    build_steps = pages["jobs"]["build"]["steps"]
+    (cache,) = [s for s in build_steps if uses(s) == "actions/cache"]
+    assert str(cache["with"]["path"]).strip().rstrip("/") == ".sitegen-cache"
+    key = str(cache["with"]["key"])
+    hashed = re.findall(r"'([^']+)'", key.partition("hashFiles(")[2])
+    for pattern in ("sims/**/*.py", "sitegen.yml", "data/**"):
+        assert pattern in hashed, f"clip cache key ignores {pattern}"
+    assert any(p.startswith("examples/") for p in hashed) or not any(
+        "examples/" in str(c.get("script", "")) for c in _clips()
+    ), "clips run scripts from examples/, which the cache key does not hash"
+    prefix = key.split("${{")[0]
+    assert prefix in str(cache["with"]["restore-keys"]).split()
+    build_at = next(i for i, s in enumerate(build_steps) if "sitegen build" in str(s.get("run")))
+    assert build_steps.index(cache) < build_at
 
 
-# --- Both -----------------------------------------------------------------------------------
-
-
-@pytest.mark.parametrize("path", [CI, PAGES], ids=lambda p: p.name)
-def test_every_action_is_pinned(path: Path) -> None:
-    wf = load(path)
-    blocks = steps(wf) + list(wf["jobs"].values())
-    used = [str(b["uses"]) for b in blocks if "uses" in b]
-    assert used
-    for ref in used:
-        m = PINNED.match(ref)
-        assert m, f"{path.name}: {ref} is not pinned to a version tag or commit"
-        minimum = MIN_MAJOR.get(m["action"])
-        if minimum and m["major"]:
-            assert int(m["major"]) >= minimum, f"{path.name}: {ref} is older than v{minimum}"
+def _clips() -> list[dict]:
+    data = yaml.safe_load((REPO / "sitegen.yml").read_text(encoding="utf-8"))
+    return list(((data or {}).get("sims") or {}).get("clips") or [])

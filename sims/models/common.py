@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from sims.quiet import pybullet as p
 
@@ -49,8 +50,15 @@ class JointRef:
     max_velocity: float | None = None
     lower: float | None = None
     upper: float | None = None
-    mode: str = "position"  # initial motor mode: "position", "velocity" or "free"
+    mode: str = "position"  # initial motor mode: "position", "velocity", "free", "spring", "hold"
     friction_torque: float = 0.0  # used by mode "free": a velocity motor at 0 with this torque
+    kind: str = "revolute"  # "revolute", "prismatic" or "spherical"
+    own_frame: bool = False  # object pose = the joint's own frame (without its displacement)
+    spring_k: float = 0.0  # mode "spring": torque = -k (q - target) - c dq/dt, capped
+    spring_c: float = 0.0
+    initial_velocity: float = 0.0  # mode "velocity": the saved target velocity
+    initial_target: float | None = None  # mode "position"/"spring": saved target (None: zero)
+    coppelia_mode: int | None = None  # the mode CoppeliaSim reports (0 passive, 1 motion...)
 
 
 @dataclass(frozen=True)
@@ -76,6 +84,30 @@ class RaySensor:
 
 
 @dataclass(frozen=True)
+class ProxSensor:
+    """A proximity sensor of a scene file: its frame on a link (z = sensing direction, as in
+    CoppeliaSim) and the rays that sample its detection volume, (start, end) in that frame."""
+
+    name: str
+    body: int
+    link: int
+    offset_pos: Vec3
+    offset_orn: Quat
+    rays: tuple[tuple[Vec3, Vec3], ...]
+
+
+@dataclass(frozen=True)
+class TreeNode:
+    """One object of a scene file's tree, in handle order: ``kind`` as in sims.scene.model,
+    ``parent`` the parent's name (None at the top)."""
+
+    name: str
+    kind: str
+    parent: str | None = None
+    alias: str = ""
+
+
+@dataclass(frozen=True)
 class CameraSetup:
     """Default chase camera for a scene: distance (m), yaw/pitch (deg), height of the target."""
 
@@ -96,6 +128,12 @@ class SceneModel:
     sensors: list[RaySensor] = field(default_factory=list)
     obstacles: list[int] = field(default_factory=list)  # body ids a robot must not touch
     camera: CameraSetup = CameraSetup(0.6, 30.0, -30.0, 0.05)
+    # Scene files (sims.scene.build): every object in handle order, sensors with their volume,
+    # the scene's own objects by name (vision sensor data...), and what the builder approximated.
+    tree: list[TreeNode] = field(default_factory=list)
+    prox: list[ProxSensor] = field(default_factory=list)
+    data: dict[str, Any] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
 
 def quat_from_euler(roll: float, pitch: float, yaw: float) -> Quat:

@@ -1,20 +1,14 @@
 """CoppeliaSim's legacy remote API (``import sim`` / ``import vrep``) on sitegen's pybullet scenes.
 
-Course scripts written for CoppeliaSim run unchanged: ``run_script`` (or the CLI,
+Course scripts written for CoppeliaSim run unchanged: ``runner.run_script`` (or the CLI,
 ``sitegen remote-api run SCRIPT --scene 2w1a``) executes them with the ``shim`` directory first
 on ``sys.path``, so ``import sim`` finds :mod:`sims.remote_api.api`. No socket is ever opened:
-``simxStart`` only records the address. See docs/README-remote-api.md.
+``simxStart`` only records the address. See docs/remote-api-legacy.md.
 
-Importing this package registers the ``script`` clip kind with ``sims.clips``
-(``ClipSpec(kind="script", scenario="path/to/script.py", params={"scene": ..., "after": ...})``).
+The ``script`` clip kind (``ClipSpec(kind="script", scenario="path/to/script.py")``) is
+:mod:`sims.remote_api.script_clips`, declared in ``sims.sources.SOURCE_KINDS``.
+
+The package root imports nothing: import from the modules (``from
+sims.remote_api.runner import run_script``), so that the Lua layer, which uses
+``commands`` and ``constants``, does not load the runner that loads it.
 """
-
-from __future__ import annotations
-
-from .client import Session, configure, current_session, set_session
-from .record import register as _register_clip_kind
-from .runner import RunResult, run_script
-
-_register_clip_kind()
-
-__all__ = ["RunResult", "Session", "configure", "current_session", "run_script", "set_session"]

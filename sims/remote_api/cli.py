@@ -1,32 +1,41 @@
 """``sitegen remote-api``: run CoppeliaSim legacy remote API scripts on the pybullet scenes.
 
-    sitegen remote-api run SCRIPT [--scene 2w1a|cart] [--record OUT.webm] [--realtime]
-                           [--after SECONDS] [--seed N] [--timeout S] [--server KIND] [-- ARGS]
+    sitegen remote-api run SCRIPT [--scene 2w1a|cart|PATH] [--record OUT.webm] [--realtime]
+                           [--after SECONDS] [--seed N] [--timeout S] [--server KIND]
+                           [--stdin FILE] [--strict] [-- ARGS]
     sitegen remote-api functions        # which simx* functions are emulated
 
-The script's own output goes to stdout; diagnostics and the summary go to stderr. The exit code
-is the script's (``sys.exit(n)``), 1 when it raised, 124 when it ran past its time limit.
+``--scene`` takes a bundled scene name or a scene file (``.ttt``, ``.simscene.xml``). The
+script's own output goes to stdout; diagnostics and the summary go to stderr, ending with the
+objects the script asked for that the scene lacks and the functions it called that the emulation
+does not implement (script line and nearest names). The exit code is the script's
+(``sys.exit(n)``), 1 when it raised, 124 when it ran past its time limit; with ``--strict`` a
+run that asked for anything missing exits 3 when the script itself ended with 0.
 """
 
 from __future__ import annotations
 
 import argparse
+import io
 import shutil
 import sys
 import tempfile
 from pathlib import Path
 
+from .client import missing_report
 from .runner import DEFAULT_TIMEOUT, run_script
 from .server import SERVER_KINDS
 
 SCENES = ("2w1a", "cart")
+STRICT_EXIT = 3
 
 
 def _parser(prog: str) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog=prog,
-        description="Run CoppeliaSim legacy remote API scripts (import sim / vrep) "
-        "unchanged on sitegen's pybullet scenes. No network: addresses are only recorded.",
+        description="Run CoppeliaSim remote API scripts, legacy (import sim / vrep) or ZeroMQ "
+        "(RemoteAPIClient), unchanged on sitegen's pybullet scenes. No network: addresses are "
+        "only recorded.",
     )
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser(
@@ -44,8 +53,27 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--scene",
-        choices=SCENES,
-        help="scene to load (default: guessed from the object names in the script)",
+        metavar="NAME|PATH",
+        help=f"scene to load: {' or '.join(SCENES)}, or a CoppeliaSim scene file (.ttt, "
+        ".simscene.xml) (default: guessed from the object names in the script)",
+    )
+    run.add_argument(
+        "--stdin",
+        metavar="FILE",
+        help="feed this file to the script's standard input (input() calls); without it an "
+        "input() call ends the script (EOF)",
+    )
+    run.add_argument(
+        "--keys",
+        metavar="FILE",
+        help="key presses for scripts that import keyboard: lines 'SECONDS DURATION KEY' on "
+        "the script's clock (docs/lua.md); without it no key is pressed",
+    )
+    run.add_argument(
+        "--strict",
+        action="store_true",
+        help=f"exit {STRICT_EXIT} when the script asked for objects the scene lacks or "
+        "called functions the emulation does not implement",
     )
     run.add_argument(
         "--server",
@@ -87,15 +115,30 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     )
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
-    run.add_argument("-q", "--quiet", action="store_true", help="no summary line")
-    sub.add_parser("functions", help="list the emulated and the unsupported simx functions")
+    _add_verbosity(run, "no summary line", "also the scene and seed before the run")
+    _add_verbosity(
+        sub.add_parser("functions", help="list the emulated and the unsupported simx functions"),
+        "accepted as on every command; the lists are always printed",
+        "accepted as on every command; the lists are always printed",
+    )
     return parser
+
+
+def _add_verbosity(p: argparse.ArgumentParser, quiet: str, verbose: str) -> None:
+    """-q/-v as on every sitegen command: quiet never hides errors or the command's data."""
+    group = p.add_mutually_exclusive_group()
+    group.add_argument(
+        "-q", "--quiet", dest="verbosity", action="store_const", const=-1, default=0, help=quiet
+    )
+    group.add_argument(
+        "-v", "--verbose", dest="verbosity", action="store_const", const=1, help=verbose
+    )
 
 
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
     args = _parser(prog).parse_args(argv)
     if args.command == "functions":
-        return _functions()
+        return _functions()  # -q/-v: the lists are the command's data, printed either way
     return _run(args)
 
 
@@ -111,13 +154,22 @@ def _functions() -> int:
     print(f"not supported: return simx_return_local_error_flag ({len(unsupported)}):")
     for n in sorted(unsupported):
         print(f"  {n}")
+    from .zmq.functions import NOT_EMULATED, load
+
+    zmq_names = sorted(load())
+    print(f"ZeroMQ API (sim.*), emulated ({len(zmq_names)}):")
+    for n in zmq_names:
+        print(f"  {n}")
+    print(f"ZeroMQ API, not emulated: raise an error ({len(NOT_EMULATED)}):")
+    for n in sorted(NOT_EMULATED):
+        print(f"  {n}")
     return 0
 
 
 def _scene_for(args: argparse.Namespace) -> str | None:
     if args.scene:
         return args.scene
-    from .record import guess_scene
+    from .script_clips import guess_scene
 
     try:
         return guess_scene(Path(args.script).read_text(encoding="utf-8", errors="replace"))
@@ -125,33 +177,83 @@ def _scene_for(args: argparse.Namespace) -> str | None:
         return None
 
 
+def _check_scene(scene: str) -> str | None:
+    """An error message when ``scene`` is neither a bundled name nor a readable scene file."""
+    from sims.scene.resolve import SceneFileError, is_bundled, open_scene
+
+    if is_bundled(scene):
+        return None
+    try:
+        open_scene(scene)
+    except SceneFileError as exc:
+        return str(exc)
+    except Exception as exc:  # a reader's own error: one line, never a traceback
+        return f"{scene}: cannot load the scene: {exc}"
+    return None
+
+
 def _run(args: argparse.Namespace) -> int:
     scene = _scene_for(args)
+    if scene is not None:
+        problem = _check_scene(scene)
+        if problem:
+            print(f"error: {problem}", file=sys.stderr)
+            return 2
+        if not is_bundled_name(scene):
+            scene = str(Path(scene).resolve())
     if scene is None:
         if not Path(args.script).is_file():
             print(f"error: {args.script}: no such script file", file=sys.stderr)
             return 2
         print(
             f"error: {args.script}: cannot tell the scene from the script; "
-            f"pass --scene {'|'.join(SCENES)}",
+            f"pass --scene {'|'.join(SCENES)} or --scene PATH (a .ttt or .simscene.xml file)",
             file=sys.stderr,
         )
         return 2
-    result = run_script(
-        args.script,
-        scene,
-        seed=args.seed,
-        server=args.server,
-        realtime=args.realtime,
-        after=args.after,
-        timeout=args.timeout,
-        argv=args.script_args,
-    )
+    if args.verbosity > 0:
+        print(f"[remote-api] scene {scene}, seed {args.seed}", file=sys.stderr)
+    from sims.lua import keys
+
+    try:
+        keys.configure(keys.load(args.keys) if args.keys else None)
+    except keys.KeysFileError as exc:
+        print(f"error: --keys {exc}", file=sys.stderr)
+        return 2
+    try:
+        feed = open(args.stdin, encoding="utf-8") if args.stdin else io.StringIO("")
+    except OSError as exc:
+        print(f"error: --stdin {args.stdin}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    saved_stdin = sys.stdin
+    sys.stdin = feed
+    try:
+        result = run_script(
+            args.script,
+            scene,
+            seed=args.seed,
+            server=args.server,
+            realtime=args.realtime,
+            after=args.after,
+            timeout=args.timeout,
+            argv=args.script_args,
+        )
+    finally:
+        sys.stdin = saved_stdin
+        feed.close()
     sys.stdout.flush()
     if result.message and result.exit_code != 0 and not result.message_printed:
         print(f"error: {result.message}", file=sys.stderr)
-    if not args.quiet:
+    for line in missing_report(result.missing):
+        print(line, file=sys.stderr)
+    if args.verbosity >= 0:
         print(f"[remote-api] {result.summary()}", file=sys.stderr)
+    if args.strict and result.missing and result.exit_code == 0:
+        print(
+            f"error: {args.script}: the script asked for what this run lacks (--strict)",
+            file=sys.stderr,
+        )
+        return STRICT_EXIT
     if args.record and result.exit_code == 0:
         try:
             # a real-time run's length is not reproducible: let the recorder measure its own
@@ -165,6 +267,12 @@ def _run(args: argparse.Namespace) -> int:
     return result.exit_code
 
 
+def is_bundled_name(scene: str) -> bool:
+    from sims.scene.resolve import is_bundled
+
+    return is_bundled(scene)
+
+
 def record_clip(args: argparse.Namespace, scene: str, seconds: float | None) -> list[Path]:
     """Render the run as a clip with the gallery's machinery; returns the files written.
 
@@ -175,7 +283,7 @@ def record_clip(args: argparse.Namespace, scene: str, seconds: float | None) -> 
     from sims.clip_worker import render_job
     from sims.clips import ClipSpec
 
-    from .record import MARGIN, TARGET
+    from .script_clips import MARGIN, TARGET
 
     width, _, height = args.size.partition("x")
     out = Path(args.record)

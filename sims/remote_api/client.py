@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import sys
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -42,6 +43,53 @@ class Client:
     queued: list = field(default_factory=list)  # setters held while communication is paused
     last_cmd_time: float = 0.0
     calls: int = 0
+
+
+@dataclass(frozen=True)
+class Missing:
+    """Something a script asked for that this run could not give: ``kind`` "object" (a name
+    the scene lacks, with the nearest names in it) or "function" (a simx function the
+    emulation does not implement); ``site`` is "file.py:line" in the script."""
+
+    kind: str
+    what: str
+    site: str
+    nearest: tuple[str, ...] = ()
+
+
+def script_site() -> str:
+    """``file:line`` of the innermost caller outside sitegen's own ``sims`` package."""
+    from .clock import LIBRARY_DIR
+
+    frame = sys._getframe(1)
+    while frame is not None:
+        name = frame.f_code.co_filename
+        if not name.startswith(LIBRARY_DIR) and not name.startswith("<frozen"):
+            return f"{os.path.basename(name)}:{frame.f_lineno}"
+        frame = frame.f_back
+    return "?"
+
+
+def missing_report(missing: list) -> list[str]:
+    """Lines naming each object the scene lacks and each function not implemented."""
+    lines: list[str] = []
+    objects = [m for m in missing if m.kind == "object"]
+    functions = [m for m in missing if m.kind == "function"]
+    if objects:
+        lines.append("[remote-api] objects the script asked for that the scene lacks:")
+        for m in objects:
+            near = ", ".join(m.nearest) if m.nearest else "no similar name"
+            lines.append(f"  {m.site}: {m.what!r} (nearest in the scene: {near})")
+    if functions:
+        lines.append("[remote-api] functions the emulation does not implement:")
+        for m in functions:
+            # ZeroMQ (sim.*) calls raise; legacy simx* calls return the flag
+            legacy = not m.what.startswith("sim.")
+            how = "returned simx_return_local_error_flag" if legacy else "raised an error"
+            if m.what.startswith("Lua "):  # a scene script's call (sims/lua): returned nothing
+                how = "called by the scene's Lua script; returned nothing"
+            lines.append(f"  {m.site}: {m.what} ({how})")
+    return lines
 
 
 @dataclass
@@ -85,17 +133,22 @@ class Session:
         )
         if self.simulator is not None:
             self.simulator.reset_observers.append(self._after_reset)
+            self.simulator.on_status = self.status
+            self.simulator.on_missing = lambda m: self.note_missing(
+                "function", f"Lua {m.function}", f"{m.scene}: script {m.script!r} line {m.line}"
+            )
         self.clients: dict[int, Client] = {}
         self.connections: list[Connection] = []
         self._next_connection_id = 1
         self._warned: set[str] = set()
         self._stderr = stderr
         self.lock = threading.RLock()
+        self.missing: list[Missing] = []  # in call order, one per (kind, what, site)
+        self.reset_hooks: list[Callable[[Session], None]] = []  # after a scene reset
 
     def _after_reset(self, _sim) -> None:
-        from .execute import reapply_setter_streams
-
-        reapply_setter_streams(self)
+        for hook in list(self.reset_hooks):  # execute.py: re-run streaming setters
+            hook(self)
 
     # --- messages ------------------------------------------------------------------------------
     def warn_once(self, key: str, message: str) -> None:
@@ -104,6 +157,11 @@ class Session:
         self._warned.add(key)
         stream = self._stderr or sys.stderr
         print(f"[sim] {message}", file=stream, flush=True)
+
+    def note_missing(self, kind: str, what: str, site: str, nearest: tuple = ()) -> None:
+        item = Missing(kind, what, site, tuple(nearest))
+        if all((m.kind, m.what, m.site) != (kind, what, site) for m in self.missing):
+            self.missing.append(item)
 
     def status(self, text: str) -> None:
         """A status bar message: CoppeliaSim shows it in its window; we print it to stderr."""
@@ -120,7 +178,15 @@ class Session:
                     break
             else:
                 return -1
+            self.simulator.choose_server(port)
             self.simulator.load()
+            if self.simulator.refuses(port):  # no simRemoteApi.start(port) in the scene
+                self.warn_once(
+                    f"port:{port}",
+                    f"no remote API server on port {port}: the "
+                    f"scene's scripts started {self.simulator.lua.ports}",
+                )
+                return -1
             client = Client(cid, address, port, self._next_connection_id, dict(options))
             self._next_connection_id += 1
             self.clients[cid] = client

@@ -2,8 +2,9 @@
 
 While a script runs (``patch_time``), ``time.sleep``/``time.time``/``time.monotonic``/
 ``time.perf_counter`` (and their ``_ns`` forms) called from the script's thread follow the run's
-clock; other threads, and sitegen's own ``sims`` code (recorder deadlines), keep the real ones. A virtual sleep lets simulated time pass at once: the
-simulator steps the world through it, so an 80 s script finishes in a few wall seconds.
+clock; other threads, and sitegen's own ``sims`` code (recorder deadlines), keep the real ones. A
+virtual sleep lets simulated time pass at once: the simulator steps the world through it, so an
+80 s script finishes in a few wall seconds.
 """
 
 from __future__ import annotations

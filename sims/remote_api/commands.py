@@ -24,10 +24,23 @@ from .constants import (
 )
 
 WORLD_FRAME = -1
-# Columns are the sensor frame's axes in its link's frame: x_s = y_link, y_s = z_link, z_s = x_link
-# (the World's ray fan looks along the link's +x; CoppeliaSim's sensors look along their +z).
-_SENSOR_M: g.Mat = ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
-_SENSOR_Q = g.matrix_to_quat(_SENSOR_M)
+#: simxGetObjects / group data object types by scene object kind.
+OBJECT_TYPES = {
+    "shape": sim_object_shape_type,
+    "joint": sim_object_joint_type,
+    "graph": 2,
+    "camera": 3,
+    "dummy": 4,
+    "proximity_sensor": sim_object_proximitysensor_type,
+    "path": 8,
+    "vision_sensor": 9,
+    "mill": 11,
+    "force_sensor": 12,
+    "light": 13,
+    "mirror": 14,
+    "octree": 15,
+    "point_cloud": 16,
+}
 
 
 class CommandError(Exception):
@@ -36,20 +49,18 @@ class CommandError(Exception):
 
 # --- names and kinds ---------------------------------------------------------------------------
 def resolve_name(world: Any, name: Any) -> int | None:
-    """Handle of ``name``; like CoppeliaSim, ``name#`` and ``name#0`` mean ``name``."""
+    """Handle of ``name`` (an old-style name, ``name#``/``name#0``, or a 4.x object path)."""
     if isinstance(name, bytes):
         name = name.decode("utf-8", "replace")
-    name = str(name)
-    h = world.handle(name)
-    if h is None and "#" in name:
-        base, _, suffix = name.rpartition("#")
-        if suffix in ("", "0"):
-            h = world.handle(base)
-    return h
+    return world.find(str(name))
 
 
-def _sensors(world: Any) -> dict[str, Any]:
-    return {s.name: s for s in getattr(world.model, "sensors", [])}
+def nearest_names(world: Any, name: str, count: int = 3) -> tuple[str, ...]:
+    """The scene's names (and aliases) closest to ``name`` (difflib), best first."""
+    import difflib
+
+    pool = sorted({e.name for e in world.tree()} | {e.alias for e in world.tree() if e.alias})
+    return tuple(difflib.get_close_matches(name, pool, n=count, cutoff=0.5))
 
 
 def _joints(world: Any) -> dict[str, Any]:
@@ -68,72 +79,44 @@ def name(world: Any, handle: int) -> str:
 
 
 def object_type(world: Any, handle: int) -> int:
-    n = name(world, handle)
-    if n in _joints(world):
-        return sim_object_joint_type
-    if n in _sensors(world):
-        return sim_object_proximitysensor_type
-    return sim_object_shape_type
+    name(world, handle)
+    return OBJECT_TYPES.get(world.kind(handle), sim_object_shape_type)
 
 
 def joint(world: Any, handle: int) -> Any:
     n = name(world, handle)
-    j = _joints(world).get(n)
+    j = world._joints.get(n)
     if j is None:
         raise CommandError(f"object {n!r} is not a joint")
     return j
 
 
 def objects(world: Any, object_type_: int) -> list[int]:
-    handles = [world.handle(n) for n in world.names()]
+    entries = world.tree()
     if object_type_ == sim_handle_all:
-        return handles
-    return [h for h in handles if object_type(world, h) == object_type_]
+        return [e.handle for e in entries]
+    return [
+        e.handle for e in entries if OBJECT_TYPES.get(e.kind, sim_object_shape_type) == object_type_
+    ]
 
 
 # --- frames ------------------------------------------------------------------------------------
 def frame(world: Any, handle: int) -> tuple[g.Vec, g.Quat]:
-    n = name(world, handle)
-    pos, quat = world.object_pose(n)
-    if n in _sensors(world):
-        quat = g.matrix_to_quat(g.matmul(g.quat_to_matrix(quat), _SENSOR_M))
+    """World pose of the object's frame (a proximity sensor's z is its sensing axis)."""
+    pos, quat = world.object_pose(name(world, handle))
     return tuple(pos), tuple(quat)  # type: ignore[return-value]
 
 
 def parent(world: Any, handle: int) -> int:
-    """Parent handle in CoppeliaSim's object tree (-1 for a model base).
-
-    The tree follows the pybullet link chain: a link's object hangs under the joint that moves
-    it, a joint under the object of its parent link, a sensor under its link's object; a link
-    without a named joint (a fixed caster) hangs under the object of its parent link.
-    """
-    n = name(world, handle)
-    objects_, joints_ = _objects(world), _joints(world)
-    body, link = _body_link(world, n)
-    if n in _sensors(world):
-        return _object_at(world, body, link)
-    if n in objects_:
-        if link < 0:
-            return -1
-        for j in joints_.values():
-            if j.body == body and j.index == link:
-                return int(world.handle(j.name))
-    parent_link = p.getJointInfo(body, link, physicsClientId=world.client_id)[16]
-    return _object_at(world, body, parent_link)
-
-
-def _object_at(world: Any, body: int, link: int) -> int:
-    for o in world.model.objects:
-        if o.body == body and o.link == link:
-            return int(world.handle(o.name))
-    if link < 0:
-        return -1
-    return _object_at(world, body, p.getJointInfo(body, link, physicsClientId=world.client_id)[16])
+    """Parent handle in CoppeliaSim's object tree (-1 at the top)."""
+    name(world, handle)
+    up = world.parent(handle)
+    return -1 if up is None else int(up)
 
 
 def children(world: Any, handle: int) -> list[int]:
     name(world, handle)
-    return [h for h in objects(world, sim_handle_all) if parent(world, h) == handle]
+    return [e.handle for e in world.tree() if e.parent == handle]
 
 
 def _reference(
@@ -203,6 +186,8 @@ def velocity(world: Any, handle: int) -> tuple[g.Vec, g.Vec]:
     n = name(world, handle)
     body, link = _body_link(world, n)
     cid = world.client_id
+    if body < 0:
+        return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     if link < 0:
         lin, ang = p.getBaseVelocity(body, physicsClientId=cid)
         com = p.getBasePositionAndOrientation(body, physicsClientId=cid)[0]
@@ -211,6 +196,8 @@ def velocity(world: Any, handle: int) -> tuple[g.Vec, g.Vec]:
             body, link, computeLinkVelocity=1, computeForwardKinematics=1, physicsClientId=cid
         )
         com, lin, ang = st[0], st[6], st[7]
+    if body < 0:
+        return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     origin = world.object_pose(n)[0]
     r = (origin[0] - com[0], origin[1] - com[1], origin[2] - com[2])
     cross = (
@@ -228,7 +215,7 @@ def _body_link(world: Any, n: str) -> tuple[int, int]:
     if n in _joints(world):
         j = _joints(world)[n]
         return j.body, j.index
-    s = _sensors(world)[n]
+    s = world._sensors[n]
     return s.body, s.link
 
 
@@ -239,6 +226,8 @@ def joint_position(world: Any, handle: int) -> float:
 
 def joint_force(world: Any, handle: int) -> float:
     j = joint(world, handle)
+    if j.kind == "spherical":
+        return 0.0
     torque = p.getJointState(j.body, j.index, physicsClientId=world.client_id)[3]
     return float(j.sign * torque)
 
@@ -257,16 +246,80 @@ def set_joint_target_velocity(world: Any, handle: int, rad_s: float) -> None:
 
 def set_joint_position(world: Any, handle: int, rad: float) -> None:
     """Teleport a joint (its motor keeps its target, as in CoppeliaSim)."""
+    world.set_joint_position(joint(world, handle).name, rad)
+
+
+def set_joint_force(world: Any, handle: int, force: float) -> None:
+    world.set_joint_max_force(joint(world, handle).name, abs(force))
+
+
+def vision_image(world: Any, handle: int, grey: bool) -> tuple[list[int], list[int]]:
+    from sims.scene.camera import image_for_remote_api, render_sensor
+
+    n = name(world, handle)
+    if world.kind(handle) != "vision_sensor":
+        raise CommandError(f"object {n!r} is not a vision sensor")
+    try:
+        rgb = render_sensor(world, n)
+    except (KeyError, ValueError) as exc:
+        raise CommandError(str(exc)) from exc
+    return image_for_remote_api(rgb, grey)
+
+
+def joint_matrix(world: Any, handle: int) -> list[float]:
+    """The joint's intrinsic transformation (its motion) as a 3x4 matrix, row by row."""
     j = joint(world, handle)
-    p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=world.client_id)
+    cid = world.client_id
+    if j.kind == "spherical":
+        quat = p.getJointStateMultiDof(j.body, j.index, physicsClientId=cid)[0]
+        if len(quat) != 4:
+            quat = (0.0, 0.0, 0.0, 1.0)
+        m, t = g.quat_to_matrix(tuple(quat)), (0.0, 0.0, 0.0)  # type: ignore[arg-type]
+    else:
+        q = world.joint_position(j.name)
+        if j.kind == "prismatic":
+            m, t = g.quat_to_matrix((0.0, 0.0, 0.0, 1.0)), (0.0, 0.0, q)
+        else:
+            m, t = g.quat_to_matrix((0.0, 0.0, math.sin(q / 2), math.cos(q / 2))), (0.0, 0.0, 0.0)
+    return [v for row, tk in zip(m, t, strict=True) for v in (*row, tk)]
+
+
+def set_spherical_matrix(world: Any, handle: int, values: list[float]) -> None:
+    j = joint(world, handle)
+    if j.kind != "spherical":
+        raise CommandError(f"joint {j.name!r} is not spherical")
+    rows = (tuple(values[0:3]), tuple(values[4:7]), tuple(values[8:11]))
+    quat = g.matrix_to_quat(_orthonormal(rows))  # type: ignore[arg-type]
+    p.resetJointStateMultiDof(j.body, j.index, list(quat), physicsClientId=world.client_id)
+
+
+def _orthonormal(m: tuple) -> g.Mat:
+    """The nearest rotation (Gram-Schmidt on the columns; identity for a degenerate matrix)."""
+    import numpy as np
+
+    a = np.array(m, dtype=float)
+    if not np.all(np.isfinite(a)) or abs(np.linalg.det(a)) < 1e-9:
+        return ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    u, _, vt = np.linalg.svd(a)
+    r = u @ vt
+    if np.linalg.det(r) < 0:
+        u[:, -1] *= -1
+        r = u @ vt
+    return tuple(tuple(float(x) for x in row) for row in r)  # type: ignore[return-value]
+
+
+JOINT_TYPES = {"revolute": 10, "prismatic": 11, "spherical": 12}
 
 
 def joint_properties(world: Any, handle: int) -> tuple[int, int, float, float]:
-    """(joint type, joint mode, lower limit, range or -1 when cyclic)."""
+    """(joint type, joint mode, lower limit, range or -1 when cyclic): passive-mode joints
+    report mode 0, every motor (force/torque mode) 5."""
     j = joint(world, handle)
+    kind = JOINT_TYPES.get(j.kind, 10)
+    mode = j.coppelia_mode if j.coppelia_mode is not None else (0 if j.mode == "hold" else 5)
     if j.lower is None or j.upper is None:
-        return 10, 5, -math.pi, -1.0
-    return 10, 5, float(j.lower), float(j.upper - j.lower)
+        return kind, mode, -math.pi, -1.0
+    return kind, mode, float(j.lower), float(j.upper - j.lower)
 
 
 # --- proximity sensors -------------------------------------------------------------------------
@@ -274,31 +327,22 @@ def read_proximity_sensor(world: Any, handle: int) -> tuple[bool, g.Vec, int, g.
     """(detected, point in the sensor frame, detected object handle, surface normal).
 
     The nearest hit of the sensor's rays wins. A detected object without a name in the scene
-    (a wall, an obstacle) is reported with handle 0.
+    (a wall of a bundled arena) is reported with handle 0.
     """
     n = name(world, handle)
-    sensor = _sensors(world).get(n)
-    if sensor is None:
+    if world.kind(handle) != "proximity_sensor":
         raise CommandError(f"object {n!r} is not a proximity sensor")
-    origin, link_quat = world.object_pose(n)
-    m_link = g.quat_to_matrix(link_quat)
-    starts, ends = [], []
-    for d in sensor.rays():
-        tip = g.apply(m_link, tuple(c * sensor.max_range for c in d))  # type: ignore[arg-type]
-        starts.append(tuple(origin))
-        ends.append((origin[0] + tip[0], origin[1] + tip[1], origin[2] + tip[2]))
-    hits = [h for h in p.rayTestBatch(starts, ends, physicsClientId=world.client_id) if h[0] >= 0]
-    if not hits:
+    hit = world.nearest_hit(n)
+    if hit is None:
         return False, (0.0, 0.0, 0.0), 0, (0.0, 0.0, 0.0)
-    hit = min(hits, key=lambda h: h[2])
-    m_s = g.matmul(m_link, _SENSOR_M)
-    m_t = g.transpose(m_s)
-    point = g.apply(m_t, (hit[3][0] - origin[0], hit[3][1] - origin[1], hit[3][2] - origin[2]))
-    normal = g.apply(m_t, tuple(hit[4]))  # type: ignore[arg-type]
-    return True, point, _handle_of_body(world, hit[0], hit[1]), normal
+    _dist, point, normal, body, link = hit
+    return True, tuple(point), _handle_of_body(world, body, link), tuple(normal)  # type: ignore[return-value]
 
 
 def _handle_of_body(world: Any, body: int, link: int) -> int:
+    owner = getattr(world.model, "data", {}).get(("link", body, link))
+    if owner is not None:
+        return int(world.handle(owner))
     for o in world.model.objects:
         if o.body == body and o.link == link:
             return int(world.handle(o.name))

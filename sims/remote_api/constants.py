@@ -29,7 +29,7 @@ simx_opmode_discontinue = 0x050000
 simx_opmode_buffer = 0x060000
 simx_opmode_remove = 0x070000
 
-# --- message header offsets (simxGetInMessageInfo / simxGetOutMessageInfo) -------------------------
+# --- message header offsets (simxGetInMessageInfo / simxGetOutMessageInfo) ------------------------
 simx_headeroffset_crc = 0
 simx_headeroffset_version = 2
 simx_headeroffset_message_id = 3
@@ -98,6 +98,8 @@ sim_intparam_dynamic_engine = 8
 sim_intparam_server_port_start = 9
 sim_intparam_idle_fps = 26
 sim_intparam_speedmodifier = 36
+sim_intparam_mouse_x = 22
+sim_intparam_mouse_y = 23
 sim_floatparam_rand = 0
 sim_floatparam_simulation_time_step = 1
 sim_floatparam_stereo_distance = 2
@@ -113,7 +115,12 @@ sim_arrayparam_ambient_light = 5
 
 # --- joint modes and misc ----------------------------------------------------------------------
 sim_jointmode_passive = 0
+sim_jointmode_motion = 1  # V-REP 3.x (deprecated motion mode)
+sim_jointmode_motion_deprecated = 1
 sim_jointmode_ik = 2
+sim_jointmode_ik_deprecated = 2
+sim_jointmode_ikdependent = 3
+sim_jointmode_reserved_previously_ikdependent = 3
 sim_jointmode_dependent = 4
 sim_jointmode_force = 5
 sim_joint_revolute_subtype = 10

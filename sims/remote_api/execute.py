@@ -146,6 +146,7 @@ def execute(
         if mode == STREAMING:
             active = key in client.streams
             client.streams[key] = (setter, run, zero)
+            _rerun_after_reset(session)
             client.replies[key] = reply
             return fetch(client, reply if active else previous, zero)
         if mode == DISCONTINUE:
@@ -161,8 +162,15 @@ def flush_queued(session: Session, client: Client) -> None:
         client.replies[key] = run_command(session, run, zero)
         if mode == STREAMING:
             client.streams[key] = (True, run, zero)
+            _rerun_after_reset(session)
         elif mode == DISCONTINUE:
             client.streams.pop(key, None)
+
+
+def _rerun_after_reset(session: Session) -> None:
+    """Once a session has streams, a scene reset runs its setters again."""
+    if reapply_setter_streams not in session.reset_hooks:
+        session.reset_hooks.append(reapply_setter_streams)
 
 
 def reapply_setter_streams(session: Session) -> None:

@@ -15,7 +15,7 @@ from typing import Any
 
 from . import commands as cmd
 from . import constants as C
-from .client import current_session
+from .client import current_session, script_site
 from .execute import LOCAL, execute, f32, float_arg, int_arg, str_arg
 
 # --- signals -------------------------------------------------------------------------------------
@@ -145,6 +145,8 @@ _INT_PARAMS = {
     C.sim_intparam_dynamic_engine: lambda s: C.sim_physics_bullet,
     C.sim_intparam_dynamic_step_divider: lambda s: s.steps_per_pass,
     C.sim_intparam_speedmodifier: lambda s: 0,
+    C.sim_intparam_mouse_x: lambda s: 0,  # no window, no mouse: the origin
+    C.sim_intparam_mouse_y: lambda s: 0,
 }
 _BOOL_PARAMS = {
     C.sim_boolparam_realtime_simulation: lambda s: s.clock.realtime,
@@ -215,14 +217,8 @@ _warned: set[str] = set()
 
 #: Functions of sim.py this emulation does not provide, with the outputs they would return.
 UNSUPPORTED: dict[str, tuple] = {
-    "simxGetJointMatrix": ([0.0] * 12,),
-    "simxSetSphericalJointMatrix": (),
-    "simxSetJointMaxForce": (),
-    "simxSetJointForce": (),
     "simxReadForceSensor": (0, [0.0] * 3, [0.0] * 3),
     "simxBreakForceSensor": (),
-    "simxReadVisionSensor": (False, []),
-    "simxGetVisionSensorImage": ([], []),
     "simxSetVisionSensorImage": (),
     "simxGetVisionSensorDepthBuffer": ([], []),
     "simxLoadModel": (0,),
@@ -271,7 +267,6 @@ UNSUPPORTED: dict[str, tuple] = {
     "simxEraseFile": (),
     "simxCreateDummy": (0,),
     "simxQuery": (bytearray(),),
-    "simxCallScriptFunction": ([], [], [], bytearray()),
 }
 
 
@@ -285,6 +280,7 @@ def _report_unsupported(name: str, known: bool) -> None:
     text = f"{name} {what}: it returns simx_return_local_error_flag (32)"
     session = current_session()
     if session is not None:
+        session.note_missing("function", name, script_site())
         session.warn_once("unsupported:" + name, text)
     elif name not in _warned:
         _warned.add(name)
@@ -308,6 +304,9 @@ def make_stub(name: str, known: bool = True):
 for _name in UNSUPPORTED:
     globals()[_name] = make_stub(_name)
 del _name
+
+# issue 14: served by the scene's Lua scripts and vision sensors
+from sims.lua.remote import simxCallScriptFunction, simxReadVisionSensor  # noqa: E402, F401
 
 
 def module_getattr(name: str):

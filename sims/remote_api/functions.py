@@ -7,7 +7,7 @@ how operation modes and return codes behave. Signals, parameters and helpers are
 from __future__ import annotations
 
 from . import commands as cmd
-from .client import current_session
+from .client import current_session, script_site
 from .execute import (
     INIT,
     OK,
@@ -233,10 +233,14 @@ def simxGetLastErrors(clientID, operationMode):
 # --- objects -------------------------------------------------------------------------------------
 def simxGetObjectHandle(clientID, objectName, operationMode):
     name = str_arg(objectName, 2)
+    site = script_site()
 
     def run(world):
         h = cmd.resolve_name(world, name)
         if h is None:
+            session = current_session()
+            if session is not None:
+                session.note_missing("object", name, site, cmd.nearest_names(world, name))
             raise cmd.CommandError(f"object {name!r} does not exist")
         return (h,)
 
@@ -467,3 +471,53 @@ def simxGetObjectGroupData(clientID, objectType, dataType, operationMode):
 
     code, out = execute(clientID, operationMode, ("group", kind, data), run, ([], [], [], []))
     return code, list(out[0]), list(out[1]), list(out[2]), list(out[3])
+
+
+def simxGetVisionSensorImage(clientID, sensorHandle, options, operationMode):
+    """(code, [width, height], image): rendered from the scene's vision sensor, bottom row
+    first, signed bytes (RGB, or grey when bit 0 of ``options`` is set), as CoppeliaSim
+    sends them."""
+    h, grey = int_arg(sensorHandle, 2), bool(int_arg(options, 3) & 1)
+
+    def run(world):
+        return cmd.vision_image(world, h, grey)
+
+    code, out = execute(clientID, operationMode, ("vision_image", h, grey), run, ([], []))
+    return code, list(out[0]), list(out[1])
+
+
+def simxSetJointForce(clientID, jointHandle, force, operationMode):
+    """The joint's maximum force/torque (what its motor may apply)."""
+    return _joint_set(
+        clientID, jointHandle, force, operationMode, "joint_max_force_set", cmd.set_joint_force
+    )
+
+
+simxSetJointMaxForce = simxSetJointForce
+
+
+def simxGetJointMatrix(clientID, jointHandle, operationMode):
+    """(code, 12 values): the joint's intrinsic transformation, a 3x4 matrix row by row."""
+    h = int_arg(jointHandle, 2)
+    code, out = execute(
+        clientID,
+        operationMode,
+        ("joint_matrix", h),
+        lambda w: (f32s(cmd.joint_matrix(w, h)),),
+        ([0.0] * 12,),
+    )
+    return code, list(out[0])
+
+
+def simxSetSphericalJointMatrix(clientID, jointHandle, matrix, operationMode):
+    """Orient a spherical joint by the rotation part of a 3x4 matrix (12 values, row by row)."""
+    h = int_arg(jointHandle, 2)
+    values = [float_arg(v, 3) for v in matrix]
+    if len(values) < 12:
+        raise IndexError("invalid index")
+
+    def run(world):
+        cmd.set_spherical_matrix(world, h, values[:12])
+        return ()
+
+    return execute(clientID, operationMode, ("spherical_matrix", h), run, (), setter=True)[0]

@@ -4,7 +4,9 @@
 after the shim directory that provides ``sim``/``vrep``/``simConst``/``vrepConst``), on a virtual
 clock by default: ``time.sleep`` lets simulated time pass at once, so a script that sleeps 80 s
 finishes in seconds. Python's ``random`` is seeded (``random.seed()`` without an argument in the
-script reuses that seed), so a run is reproducible. Sockets cannot connect during the run.
+script reuses that seed), so a run is reproducible. The script runs in a child process that is
+killed, with every process it started, when the script ends or runs out of time, and which has
+no network: a network namespace of its own (isolate.py) plus a socket guard in the process.
 
 Outcome: a ``RunResult`` with the exit code, a one-line message for errors/time-outs naming the
 script line, simulated/wall/virtual seconds, the addresses the script asked for (recorded, never
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import inspect
 import math
 import random
 import runpy
@@ -29,9 +32,13 @@ from typing import Any
 
 from .client import Connection, Session, set_session
 from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
+from .isolate import run_isolated, thread_network_namespace
+from .zmq import MODULES as ZMQ_MODULES
+from .zmq import uses_zmq
+from .zmq.server import release_stepping
 
 SHIM_DIR = Path(__file__).resolve().parent / "shim"
-SHIM_MODULES = ("sim", "vrep", "simConst", "vrepConst")
+SHIM_MODULES = ("sim", "vrep", "simConst", "vrepConst", "keyboard", *ZMQ_MODULES)
 DEFAULT_TIMEOUT = 300.0
 
 
@@ -64,6 +71,8 @@ class RunResult:
     samples: list[Sample] = field(default_factory=list)
     simulations: int = 0
     final_state: str = "stopped"  # the simulation's state when the run ended
+    isolation: str = "in-process"  # how the run was fenced in (see isolate.py)
+    missing: list[Any] = field(default_factory=list)  # client.Missing: names/functions lacking
 
     @property
     def ok(self) -> bool:
@@ -77,7 +86,7 @@ class RunResult:
             f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
             f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
             f"contacted): {addresses}"
-        )
+        ) + (f"; isolation: {self.isolation}" if self.isolation.endswith(" only") else "")
 
 
 class _Watchdog:
@@ -158,7 +167,8 @@ def _inside(file: str, folders: Sequence[Path]) -> bool:
 
 @contextlib.contextmanager
 def no_network(thread_id: int) -> Iterator[None]:
-    """Sockets created by the script's thread cannot connect or send anywhere."""
+    """Sockets created by the script's thread (every thread, in the child process) cannot
+    connect or send anywhere."""
     cls = socket.socket
     names = ("connect", "connect_ex", "sendto") if isinstance(cls, type) else ()
     saved = {name: getattr(cls, name) for name in names if hasattr(cls, name)}
@@ -167,7 +177,7 @@ def no_network(thread_id: int) -> Iterator[None]:
         original = saved[name]
 
         def method(self, *args: Any, **kwargs: Any):
-            if threading.get_ident() == thread_id:
+            if _in_child or threading.get_ident() == thread_id:
                 raise OSError(
                     f"socket.{name}: network access is disabled while a script runs "
                     "under the sitegen remote API emulation"
@@ -215,16 +225,36 @@ def run_script(
     stderr: Any = None,
     on_pass: Callable[[Any], None] | None = None,
     trace: bool = True,
+    wall_timeout: float | None = None,
+    isolate: bool = True,
 ) -> RunResult:
     """Run ``script`` against ``scene``; see the module docstring. ``world``: drive this World
-    (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass."""
+    (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass.
+    ``timeout`` limits the script's clock; ``wall_timeout`` the real time (default: the same
+    number; clips pass their own wall-clock safety net, docs/clips.md).
+
+    ``timeout`` must be a positive number of seconds (or None: no limit). With ``isolate``
+    (the default) the script runs in a child process (isolate.py) that is killed, with all it
+    started, when the script ends or its wall-clock limit + ``after`` + KILL_GRACE pass. A run
+    that drives the caller's ``world`` or calls ``on_pass`` needs the caller's objects and runs
+    in this process (the clip recorder's worker process is itself killable)."""
     label = str(script)
+    for name, value in (("timeout", timeout), ("wall_timeout", wall_timeout)):
+        if value is not None and not 0 < value < math.inf:
+            message = f"{label}: {name} must be a positive number of seconds, got {value:g}"
+            return RunResult(label, scene, exit_code=2, message=message)
+    if isolate and world is None and on_pass is None:
+        # every other argument goes to the child as given (a new parameter needs no edit here)
+        options = {k: v for k, v in locals().items() if k in _forwarded_parameters()}
+        return _run_in_child(script, scene, options, stderr)
     path = Path(script).resolve()
     err = stderr or sys.stderr
     result = RunResult(label, scene, exit_code=0)
     if not path.is_file():
         result.exit_code, result.message = 2, f"{label}: no such script file"
         return result
+    if server is None and uses_zmq(path):
+        server = "continuous"  # CoppeliaSim's ZeroMQ add-on serves while stopped, like it
     clock: Clock = WallClock(timeout) if realtime else VirtualClock(timeout)
     factory = (lambda *a, **k: world) if world is not None else None
     session = Session(
@@ -250,9 +280,13 @@ def run_script(
             stack.enter_context(patch_time(clock, tid))
             if not network:
                 stack.enter_context(no_network(tid))
-            _execute(path, label, clock, timeout, result, err)
+                if not _in_child:
+                    cut = stack.enter_context(thread_network_namespace())
+                    result.isolation = IN_PROCESS_NAMESPACE if cut else IN_PROCESS_GUARD
+            _execute(path, label, clock, timeout, result, err, wall_timeout)
             clock.limit = None
             if after > 0 and sim.world is not None:
+                release_stepping(session)  # the ZeroMQ client is gone: the world runs free
                 clock.advance(after)
     finally:
         set_session(previous)
@@ -263,17 +297,73 @@ def run_script(
         result.final_state = sim.state
         result.connections = list(session.connections)
         result.statusbar = list(sim.statusbar)
+        result.missing = list(session.missing)
         session.clients.clear()
         if world is None:
             session.close()
     return result
 
 
+IN_PROCESS_NAMESPACE = "caller's process; the script's thread in its own network namespace"
+IN_PROCESS_GUARD = "caller's process; sockets refused for the script's thread only"
+KILL_GRACE = 15.0  # wall seconds past the time limit (and ``after``) before the child is killed
+_in_child = False  # set in the child process: every thread there belongs to the script
+
+
+def _forwarded_parameters() -> set[str]:
+    """``run_script``'s parameters that the child's ``run_script`` call receives unchanged."""
+    return set(inspect.signature(run_script).parameters) - {
+        "script", "scene", "stderr", "isolate", "world", "on_pass"
+    }  # fmt: skip
+
+
+def _run_in_child(
+    script: str | Path, scene: str, options: dict[str, Any], stderr: Any
+) -> RunResult:
+    """``run_script`` in a forked child (isolate.run_isolated); the result comes back whole."""
+    label = str(script)
+    wall = options["wall_timeout"] or options["timeout"]
+    limit = None if wall is None else wall + max(0.0, options["after"]) + KILL_GRACE
+
+    def in_child(err: Any) -> RunResult:
+        global _in_child
+        _in_child = True
+        return run_script(script, scene, stderr=err, isolate=False, **options)
+
+    outcome = run_isolated(in_child, limit, stderr, cut_network=not options["network"])
+    if outcome.error is not None:
+        raise outcome.error
+    if isinstance(outcome.value, RunResult):
+        result = outcome.value
+    elif outcome.killed:
+        result = RunResult(label, scene, exit_code=124, timed_out=True)
+        result.message = (
+            f"{label}: stopped: the script did not end within its time limit of {wall:g} s "
+            "(wall-clock time); its process and every process it started were killed"
+        )
+    elif outcome.interrupted:
+        result = RunResult(label, scene, exit_code=130, message=f"{label}: interrupted")
+    else:
+        code = outcome.status if outcome.status is not None else 1
+        result = RunResult(label, scene, exit_code=code if code >= 0 else 128 - code)
+        if code != 0:
+            result.message = f"{label}: the script's process ended abruptly (status {code})"
+    result.isolation = outcome.isolation or result.isolation
+    return result
+
+
 def _execute(
-    path: Path, label: str, clock: Clock, timeout: float | None, result: RunResult, err: Any
+    path: Path,
+    label: str,
+    clock: Clock,
+    timeout: float | None,
+    result: RunResult,
+    err: Any,
+    wall_timeout: float | None = None,
 ) -> None:
+    wall = timeout if wall_timeout is None else wall_timeout
     try:
-        with _Watchdog(timeout, threading.get_ident()):
+        with _Watchdog(wall, threading.get_ident()):
             runpy.run_path(str(path), run_name="__main__")
     except SystemExit as exc:
         code = exc.code
@@ -290,7 +380,7 @@ def _execute(
         result.exit_code = 124
         result.message = (
             f"{_where(label, _script_line(exc, path))}: stopped: the script ran past "
-            f"its time limit of {timeout:g} s ({kind} time)"
+            f"its time limit of {timeout if clock.timed_out else wall:g} s ({kind} time)"
         )
     except KeyboardInterrupt as exc:
         result.exit_code = 130

@@ -15,9 +15,10 @@ Server kinds (CoppeliaSim's remoteApiServerSide):
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
+
+from sims.lua.attach import attach
 
 from .clock import Clock, WallClock
 
@@ -34,8 +35,18 @@ DEFAULT_SERVER = {"2w1a": CONTINUOUS, "cart": TEMPORARY}
 CALL_COST = 0.001
 
 
+#: The port CoppeliaSim's continuous server listens on (remoteApiConnections.txt).
+CONTINUOUS_PORT = 19997
+
+
 def default_server(scene: str) -> str:
     return DEFAULT_SERVER.get(scene, CONTINUOUS)
+
+
+def server_for_port(port: int) -> str:
+    """A scene file's server kind, from the port the script connects to: 19997 is the
+    continuous server; any other port is one a child script started (temporary)."""
+    return CONTINUOUS if port == CONTINUOUS_PORT else TEMPORARY
 
 
 def default_world_factory(scene: str, seed: int, timestep: float, options: dict[str, Any]):
@@ -59,6 +70,8 @@ class Simulator:
         scene_options: dict[str, Any] | None = None,
         world_factory: Callable[..., Any] | None = None,
     ):
+        #: a scene file without a configured server kind: decided by the first connection's port
+        self.server_auto = server is None and scene not in DEFAULT_SERVER
         server = server or default_server(scene)
         if server not in SERVER_KINDS:
             raise ValueError(f"server must be one of {', '.join(SERVER_KINDS)}, not {server!r}")
@@ -85,8 +98,18 @@ class Simulator:
         self.errors: list[str] = []  # server-side errors, for simxGetLastErrors
         self.signals: dict[str, dict[str, Any]] = {"float": {}, "int": {}, "string": {}}
         self.last_reply_time = 0.0
+        self.lua: Any = None  # sims.lua.ScriptHost running the scene's scripts, if it has any
+        self.on_status: Callable[[str], None] | None = None  # set by the owning Session
+        self.on_missing: Callable[[Any], None] | None = None  # an Unemulated Lua call
 
     # --- scene -------------------------------------------------------------------------------
+    def choose_server(self, port: int) -> None:
+        """Before the scene loads: a scene file's server kind follows the port (see
+        ``server_for_port``); a configured kind or a bundled scene's default stays."""
+        if self.server_auto and self.world is None:
+            self.server = server_for_port(port)
+            self.server_auto = False
+
     def load(self) -> Any:
         if self.world is None:
             self.world = self._factory(self.scene, self.seed, self.timestep, self.scene_options)
@@ -97,7 +120,18 @@ class Simulator:
             if self.server == TEMPORARY:
                 self.state = RUNNING
                 self.starts += 1
+            self.lua = attach(self)  # the scene's own Lua scripts (issue 14)
         return self.world
+
+    def refuses(self, port: int) -> bool:
+        """A temporary server exists only on the ports the scene's scripts started."""
+        host = self.lua
+        return (
+            host is not None
+            and self.server == "temporary"
+            and bool(host.ports)
+            and port not in host.ports
+        )
 
     def close(self) -> None:
         if self.world is not None:
@@ -179,7 +213,3 @@ class Simulator:
 
     def state_code(self) -> int:
         return {STOPPED: 0x00, PAUSED: 0x08, RUNNING: 0x11}[self.state]
-
-
-def isfinite_all(values) -> bool:
-    return all(math.isfinite(float(v)) for v in values)

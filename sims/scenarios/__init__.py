@@ -17,7 +17,14 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from sims.recording import Recorder, Recording, RecordingTimeout, drive, record
+from sims.recording import (
+    Recorder,
+    Recording,
+    RecordingPlan,
+    RecordingTimeout,
+    drive,
+    record,
+)
 from sims.world import World
 
 RunFunction = Callable[[World, dict, Recorder], None]
@@ -102,11 +109,32 @@ def run_scenario(
     time_limit: float | None = None,
 ) -> Recording:
     """Run a scenario headless in a fresh World and return its samples (no rendering)."""
-    from sims.sources import plan_scenario
-
     deadline = None if time_limit is None else time.monotonic() + time_limit
-    plan = plan_scenario(name, seed, params)
+    plan = plan_for(name, seed, params)
     return record(plan, fps=fps, seconds=seconds, on_frame=on_frame, deadline=deadline)[0]
+
+
+def plan_for(
+    name: str, seed: int | None = None, params: dict[str, Any] | None = None
+) -> RecordingPlan:
+    """The recording plan of scenario ``name`` (its own seed and params unless given)."""
+    scenario = get_scenario(name)
+    resolved = scenario.resolve_params(params)
+    return RecordingPlan(
+        scene=scenario.scene,
+        seed=scenario.seed if seed is None else seed,
+        duration=scenario.duration_for(resolved),
+        description=scenario.description,
+        source_path=scenario.source_path,
+        params=resolved,
+        hash_files=[scenario.source_path],
+        drive=lambda world, rec: scenario.run(world, resolved, rec),
+        scene_options=dict(scenario.scene_options),
+        follow=scenario.follow,
+        joints=scenario.joints,
+        joint_quantity=scenario.joint_quantity,
+        extra_columns=scenario.extra_columns,
+    )
 
 
 __all__ = [
@@ -114,6 +142,7 @@ __all__ = [
     "list_scenarios",
     "get_scenario",
     "run_scenario",
+    "plan_for",
     "drive",
     "RecordingTimeout",
 ]

@@ -1,1 +1,3 @@
-"""Importers: turn sites made with other tools into a ``content/`` tree (see docs/README-import.md)."""
+"""Importers: turn sites made with other tools into a ``content/`` tree.
+
+See docs/import-cmsimde.md."""

@@ -31,11 +31,36 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         help="folder to create (default: content); must be empty unless --force",
     )
     cms.add_argument("--force", action="store_true", help="replace DEST even if it is not empty")
+    loud = cms.add_mutually_exclusive_group()
+    loud.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=-1,
+        default=0,
+        help="print only the warnings, each with its page",
+    )
+    loud.add_argument(
+        "-v",
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=1,
+        help="also list every file copied and image extracted",
+    )
     return parser
 
 
-def format_report(report: ImportReport) -> str:
-    """A summary line, then every page with the warnings that belong to it."""
+def format_report(report: ImportReport, verbosity: int = 0) -> str:
+    """A summary line, then every page with the warnings that belong to it. Quiet
+    (``verbosity`` < 0): only the warnings, each named with its page; verbose: also every
+    file copied and image extracted."""
+    if verbosity < 0:
+        quiet = [f"{page.path}: {w}" for page in report.pages for w in page.warnings]
+        paged = sum(len(p.warnings) for p in report.pages)
+        quiet.extend(f"site: {w}" for w in report.warnings[paged:])
+        return "\n".join(quiet)
     warnings = sum(len(p.warnings) for p in report.pages)
     site_level = len(report.warnings) - warnings
     lines = [
@@ -50,10 +75,17 @@ def format_report(report: ImportReport) -> str:
         indent = "  " * depth
         lines.append(f"  {indent}{page.path}  [{page.title}]")
         lines.extend(f"  {indent}    ! {w}" for w in page.warnings)
+    if report.config_note:
+        lines.append("")
+        lines.append(f"Settings: {report.config_note}")
     if site_level:
         lines.append("")
         lines.append("Site:")
         lines.extend(f"    ! {w}" for w in report.warnings[-site_level:])
+    if verbosity > 0 and (report.files_copied or report.images_extracted):
+        lines.append("")
+        lines.extend(f"copied {f}" for f in report.files_copied)
+        lines.extend(f"extracted {f}" for f in report.images_extracted)
     return "\n".join(lines)
 
 
@@ -70,7 +102,9 @@ def main(argv: list[str] | None = None, prog: str = "sitegen import") -> int:
         print(f"{exc.file}:{exc.line}: {exc.message}", file=sys.stderr)
         return 1
     try:
-        print(format_report(report))
+        text = format_report(report, args.verbosity)
+        if text:
+            print(text)
         sys.stdout.flush()
     except BrokenPipeError:  # piped into `head`: the import itself is done
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

@@ -26,6 +26,12 @@ from sitegen.importers import mdtext
 from sitegen.importers.cmsimde_links import Assets, LinkResolver
 from sitegen.importers.html_to_markdown import Converter, Hooks
 from sitegen.importers.htmltree import Element, Node, ParseIssue, Text, parse_html
+from sitegen.importers.project_config import (
+    CONFIG_NAME,
+    ProjectConfig,
+    detect_language,
+    write_project_config,
+)
 from sitegen.slugs import slugify
 
 PAGE_HEADINGS = ("h1", "h2", "h3")
@@ -61,6 +67,8 @@ class ImportReport:
     warnings: list[str] = field(default_factory=list)
     files_copied: list[str] = field(default_factory=list)  # DEST-relative paths
     images_extracted: list[str] = field(default_factory=list)  # DEST-relative paths
+    config_file: Path | None = None  # the sitegen.yml written (or found) beside DEST
+    config_note: str = ""  # what happened to it, for the report
 
 
 @dataclass
@@ -114,15 +122,18 @@ def _read(file: Path) -> str:
     return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
-def _site_title(site: _Site) -> str:
-    """cmsimde keeps the site title in config/config as ``siteTitle:...``."""
+def _site_title(site: _Site) -> str | None:
+    """cmsimde keeps the site title in config/config as ``siteTitle:...`` (None without)."""
     config = site.root / "config" / "config"
     try:
-        first = config.read_text(encoding="utf-8").split("\n", 1)[0]
+        lines = config.read_text(encoding="utf-8-sig").splitlines()
     except (OSError, UnicodeDecodeError):
-        return "Home"
-    key, _, value = first.partition(":")
-    return value.strip() if key.strip() == "siteTitle" and value.strip() else "Home"
+        return None
+    for line in lines:
+        key, _, value = line.partition(":")
+        if key.strip() == "siteTitle" and value.strip():
+            return value.strip()
+    return None
 
 
 # -- splitting into pages ----------------------------------------------------------------------
@@ -196,7 +207,8 @@ def _heading_markup(root: Element) -> dict[int, list[str]]:
 
 
 def _nest(pages: list[_Page]) -> list[_Page]:
-    """Each heading goes under the nearest earlier heading of a smaller level (as cmsimde's menu)."""
+    """Each heading goes under the nearest earlier heading of a smaller level (as cmsimde's
+    menu)."""
     top: list[_Page] = []
     stack: list[_Page] = []
     for page in pages:
@@ -345,7 +357,8 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     tree = _nest(flat)
     _assign_paths(tree, PurePosixPath("."))
     pages = list(_walk(tree))
-    front = _Page(_site_title(site), 0, 1, preamble) if _visible(preamble) else None
+    site_title = _site_title(site)
+    front = _Page(site_title or "Home", 0, 1, preamble) if _visible(preamble) else None
     if front is not None:
         front.rel = PurePosixPath("index.md")
 
@@ -387,11 +400,53 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
         )
     site_warnings.extend(assets.site_warnings())
     report.warnings.extend(f"{site.content_file.name}: {w}" for w in site_warnings)
+    _import_extras(site.root, files, assets.copies, report)
     files.update(assets.extracted)
     report.files_copied = sorted(assets.copies)
     report.images_extracted = sorted(assets.extracted)
     _write(dest, files, assets.copies)
+    _write_config(dest, site_title or pages[0].title, files, report)
     return report
+
+
+def _import_extras(root: Path, files: dict, copies: dict, report: ImportReport) -> None:
+    """The blog's Pelican posts and the reveal decks, when the site has them."""
+    from sitegen.importers.pelican import import_extras
+
+    extras = import_extras(root)
+    notes: dict[str, list[str]] = {}
+    for file, message in extras.notes:
+        notes.setdefault(file, []).append(message)
+    for rel, data in extras.files.items():
+        if rel in files:
+            report.warnings.append(f"{rel}: not imported, a page of content.htm has this path")
+            continue
+        files[rel] = data
+    for rel, path in extras.copies.items():
+        copies.setdefault(rel, path)
+    for title, rel in extras.posts + extras.decks:
+        source = ("markdown/" if rel.startswith("blog/") else "reveal/") + rel.split("/", 1)[1]
+        found = [f for f in notes if f.rsplit(".", 1)[0] == source.rsplit(".", 1)[0]]
+        page = PageReport(title, rel, 0, 0, [m for f in found for m in notes.pop(f)])
+        report.pages.append(page)
+        report.warnings.extend(f"{title}: {w}" for w in page.warnings)
+    for file, messages in notes.items():
+        report.warnings.extend(f"{file}: {m}" for m in messages)
+
+
+def _write_config(dest: Path, title: str, files: dict[str, bytes], report: ImportReport) -> None:
+    """``sitegen.yml`` beside DEST with the old site's title and its content's language."""
+    texts = [data.decode("utf-8") for rel, data in sorted(files.items()) if rel.endswith(".md")]
+    config = ProjectConfig(title, detect_language(texts))
+    try:
+        path, note, is_warning = write_project_config(dest, config, report.source.name)
+    except OSError as exc:
+        report.warnings.append(f"{CONFIG_NAME}: cannot write: {exc.strerror or exc}")
+        return
+    report.config_file = path
+    report.config_note = note
+    if is_warning:
+        report.warnings.append(f"{CONFIG_NAME}: {note}")
 
 
 def _convert(page: _Page, links: LinkResolver, assets: Assets) -> tuple[str, list[tuple[int, str]]]:

@@ -4,7 +4,11 @@ cmsimde serves uploads from the site root (``/images/x.png``, ``/downloads/x.pdf
 ``/static/``) and pages as ``/get_page/TITLE`` (dynamic site) or ``TITLE.html`` (static site
 in ``content/``). In sitegen a page links to files relative to itself and to other pages by
 their ``.md`` source, which the builder turns into page URLs; so every such URL is rewritten
-here, and the files it names are planned for copying (or reported missing).
+here, and the files it names are planned for copying (or reported missing, naming the link).
+
+A URL that does not parse (``http://user:pw@[proxy_ipv6_address]port``) is kept exactly as
+written with a warning, never a traceback; ``//host/...`` becomes ``https://host/...`` so
+the imported site works from ``file://``.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from typing import Protocol
 from urllib.parse import parse_qs, unquote, unquote_to_bytes, urlsplit
 
 from sitegen.importers.htmltree import Element
+from sitegen.links import external_problem
 
 Warn = Callable[[str, int], None]
 
@@ -56,7 +61,8 @@ def relative_to_page(page_rel: PurePosixPath, target: str) -> str:
 
 
 class Assets:
-    """Files referenced under /images, /downloads and /static, and images decoded from data: URIs."""
+    """Files referenced under /images, /downloads and /static, and images decoded from data:
+    URIs."""
 
     KINDS = ("images", "downloads", "static")
 
@@ -67,7 +73,8 @@ class Assets:
         self.missing: set[str] = set()
 
     def find(self, kind: str, sub: str) -> Path | None:
-        """The file for ``/kind/sub``; falls back to a case-insensitive match (cmsimde ran on Windows)."""
+        """The file for ``/kind/sub``; falls back to a case-insensitive match (cmsimde ran on
+        Windows)."""
         for base in self.bases:
             folder = base / kind
             exact = folder / sub
@@ -180,7 +187,13 @@ class LinkResolver:
         raw = url.strip()
         if not raw or raw.startswith("#"):
             return raw
+        problem = external_problem(raw)
+        if problem:
+            warn(problem, el.line)
+            return raw
         parts = urlsplit(raw)
+        if raw.startswith("//"):
+            return "https:" + raw
         if parts.scheme or parts.netloc:
             return raw
         suffix = (f"?{parts.query}" if parts.query else "") + (
@@ -189,7 +202,14 @@ class LinkResolver:
         path = unquote(parts.path)
         m = _ASSET.match(path)
         if m:
+            before = len(missing)
             new = self.assets.link(page.rel, m.group(1), m.group(2), warn, el.line, missing)
+            if new is not None and len(missing) > before:
+                warn(
+                    f"link {raw} names {missing[-1]}, which is not in the site: "
+                    f"linked as {new}, where the copy would be",
+                    el.line,
+                )
             return raw if new is None else new + suffix
         target, named = self._page_for(path, parts.query)
         frag = f"#{parts.fragment}" if parts.fragment else ""

@@ -2,6 +2,8 @@
 // Latin text is indexed by lower-cased words (matched by prefix); CJK text has no spaces between
 // words, so it is indexed by overlapping character bigrams: "齒輪" is found inside "錯誤排解齒輪方向".
 // Candidates from the index are then confirmed by substring match; title hits rank first.
+// Results are grouped by page, each with the headings (record "h") the matches fall under.
+// Loaded by search.html, and on demand by site.js for the header box's result panel.
 (function () {
   "use strict";
   var docs = window.SITEGEN_SEARCH || [];
@@ -92,11 +94,34 @@
   function filter(a, b) { var out = {}; Object.keys(a).forEach(function (k) { if (b[k]) out[k] = 1; }); return out; }
   function count(text, term) { var n = 0, at = text.indexOf(term); while (at >= 0 && n < 50) { n++; at = text.indexOf(term, at + term.length); } return n; }
 
-  function snippet(d, terms) {
-    var text = d.x, lower = text.toLowerCase(), at = -1;
-    for (var i = 0; i < terms.length && at < 0; i++) at = lower.indexOf(terms[i]);
-    var start = Math.max(0, at - 40), piece = text.substr(start, 160);
-    return (start > 0 ? "…" : "") + piece + (start + 160 < text.length ? "…" : "");
+  // Where each heading's title sits in the page text, so a match can name its section.
+  function headingsOf(d) {
+    if (d.ho) return d.ho;
+    var lower = d.x.toLowerCase(), at = 0;
+    d.ho = [];
+    (d.h || []).forEach(function (h) {
+      var i = lower.indexOf(h[1].toLowerCase(), at);
+      if (i >= 0) { d.ho.push({ at: i, id: h[0], title: h[1] }); at = i + h[1].length; }
+    });
+    return d.ho;
+  }
+
+  // The sections of a page that hold the query: [{id, title, at}], the page's top first.
+  function sections(d, terms, most) {
+    var lower = d.x.toLowerCase(), heads = headingsOf(d), out = [], seen = {};
+    for (var n = 0, at = lower.indexOf(terms[0]); at >= 0 && n < 200 && out.length < most; n++) {
+      var h = null;
+      for (var i = 0; i < heads.length && heads[i].at <= at; i++) h = heads[i];
+      var key = h ? h.id : "";
+      if (!seen[key]) { seen[key] = 1; out.push({ id: key, title: h ? h.title : "", at: at }); }
+      at = lower.indexOf(terms[0], at + terms[0].length);
+    }
+    return out;
+  }
+
+  function snippet(text, at, width) {
+    var start = Math.max(0, at - (width >> 2)), piece = text.substr(start, width);
+    return (start > 0 ? "…" : "") + piece + (start + width < text.length ? "…" : "");
   }
 
   function highlight(el, text, terms) {
@@ -111,26 +136,58 @@
     }
   }
 
+  function el(tag, cls, parent) {
+    var e = document.createElement(tag);
+    if (cls) e.className = cls;
+    if (parent) parent.appendChild(e);
+    return e;
+  }
+
+  var body = document.body, root = document.documentElement.getAttribute("data-root") || "";
+
+  // Fill `box` with results for `q`, grouped by page; `pages` caps the pages shown (the panel
+  // links to the search page for the rest). Returns the number of matching pages.
+  function render(box, q, pages, panel) {
+    var terms = q.toLowerCase().split(/\s+/).filter(Boolean), results = search(q);
+    box.textContent = "";
+    if (!results.length) { el("p", "", box).textContent = body.getAttribute("data-none"); return 0; }
+    results.slice(0, pages).forEach(function (r) {
+      var d = r.doc, href = root + encodeURI(d.u), group = el("div", "sr-page", box);
+      var title = el("a", "sr-title", group), found = sections(d, terms, panel ? 3 : 6);
+      title.href = href;
+      highlight(title, d.t, terms);
+      if (d.p) el("small", "", title).textContent = d.p;
+      found.forEach(function (s) {
+        var a = s.id ? el("a", "sr-hit", group) : title;
+        if (s.id) { a.href = href + "#" + encodeURIComponent(s.id); highlight(a, s.title, terms); }
+        highlight(el("small", "", a), snippet(d.x, s.at, panel ? 90 : 160), terms);
+      });
+    });
+    if (panel) {
+      var more = el("a", "sr-title", el("div", "sr-page", box));
+      more.href = root + "search.html?q=" + encodeURIComponent(q);
+      more.textContent = body.getAttribute("data-all") + " (" + results.length + ") →";
+    }
+    return results.length;
+  }
+
   window.sitegenSearch = search;
+  window.sitegenResults = function (box, q, pages) { return render(box, q, pages, true); };
+
+  // search.html: the full list, also reached by submitting the header box without JavaScript
+  // having loaded the panel.
   var input = document.getElementById("search-input");
   var list = document.getElementById("search-results");
   var status = document.getElementById("search-status");
   if (!input || !list) return;
-  var root = document.querySelector('link[rel="stylesheet"]').getAttribute("href").replace(/assets\/style\.css$/, "");
 
   function show() {
-    var q = input.value.trim(), terms = q.toLowerCase().split(/\s+/).filter(Boolean);
+    var q = input.value.trim();
     list.textContent = "";
-    if (!q) { status.textContent = ""; return; }
-    var results = search(q);
-    status.textContent = results.length ? results.length + " " + status.getAttribute("data-results") : status.getAttribute("data-none");
-    results.slice(0, 50).forEach(function (r) {
-      var li = document.createElement("li"), a = document.createElement("a");
-      a.href = root + encodeURI(r.doc.u); a.textContent = r.doc.t;
-      var where = document.createElement("div"); where.className = "where"; where.textContent = r.doc.p;
-      var p = document.createElement("p"); highlight(p, snippet(r.doc, terms), terms);
-      li.appendChild(a); li.appendChild(where); li.appendChild(p); list.appendChild(li);
-    });
+    status.textContent = "";
+    if (!q) return;
+    var n = render(list, q, 50, false);
+    if (n) status.textContent = n + " " + body.getAttribute("data-results");
   }
 
   var params = new URLSearchParams(window.location.search);

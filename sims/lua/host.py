@@ -1,0 +1,451 @@
+"""A scene's child and customization scripts, run the way CoppeliaSim's main script runs them.
+
+``ScriptHost(world)`` loads every enabled, non-empty child and customization script of the
+World's scene, each in its own sandboxed Lua state (runtime.py). Per simulation pass (the
+scene's time step, 50 ms by default; several physics steps of the World):
+
+1. actuation: threaded scripts resume (launched at the first pass; they run until they yield at
+   ``sim.switchThread``/``sim.wait`` or an automatic switch), then non-threaded child scripts
+   (``sysCall_actuation``, or the whole old-style chunk with ``sim_call_type`` = actuation),
+   then customization scripts;
+2. the World's physics steps;
+3. sensing: the same order with ``sysCall_sensing`` / the sensing call type.
+
+``start()`` runs initialisation (customization scripts first, then child scripts) and the first
+actuation; ``stop()`` runs cleanup. The host follows the World through ``add_step_hook``: a pass
+ends every ``steps_per_pass`` physics steps; an unstarted host starts at the first step.
+
+A script error is recorded once (``errors``) and the run goes on, as in CoppeliaSim; a call of
+a function the emulation lacks is recorded once per script line (``missing``).
+"""
+
+from __future__ import annotations
+
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .constants import constants
+from .runtime import LuaScriptError, LuaState, text
+from .simapi import OLD_NAMES, REGISTRY, Context, old_name
+
+
+@dataclass(frozen=True)
+class Unemulated:
+    """A call of a function this emulation does not provide."""
+
+    function: str
+    scene: str
+    script: str
+    line: int
+
+    def describe(self) -> str:
+        return f"{self.scene}: script {self.script!r} line {self.line}: {self.function}"
+
+
+@dataclass
+class ScriptRun:
+    """One script and its Lua state."""
+
+    name: str
+    kind: str  # "child" or "customization"
+    threaded: bool
+    object: int  # World handle of the object it is attached to
+    handle: int
+    text: str
+    state: Any = None
+    chunk: Any = None
+    new_style: bool = False
+    co: Any = None
+    finished: bool = False
+    removed: bool = False
+    executions: int = 0
+    switch_ms: int = 2
+    auto_switch: bool = True
+    active: bool = True  # a customization script called during simulation
+    callbacks: dict[str, Any] = field(default_factory=dict)  # sysCall_* looked up once
+
+
+SELF_SHAPED = ("sim.switchThread", "sim.wait")
+
+
+class ScriptHost:
+    """The scripts of one World's scene; see the module docstring."""
+
+    def __init__(
+        self,
+        world: Any,
+        *,
+        signals: dict[str, dict[str, Any]] | None = None,
+        pass_dt: float | None = None,
+        status: Callable[[str], None] | None = None,
+        scene_label: str | None = None,
+        customization: bool = True,
+        enabled: bool = True,
+    ):
+        self.world = world
+        source = getattr(world, "source", None)
+        self.scene = scene_label or Path(str(getattr(source, "source", "") or "scene")).name
+        self.new_api = str(getattr(source, "version", "")).find("CoppeliaSim 4") >= 0
+        self.signals = signals if signals is not None else {"float": {}, "int": {}, "string": {}}
+        dt = pass_dt or getattr(source, "time_step", 0.05) or 0.05
+        self.steps_per_pass = max(1, round(dt / world.timestep))
+        self.pass_dt = self.steps_per_pass * world.timestep
+        self._status = status
+        self.custom: dict[tuple[int, str], bytes] = {}
+        self.created: dict[int, dict[str, Any]] = {}
+        self.special: dict[int, int] = {}
+        self.parents: dict[int, int] = {}  # scene objects a script re-parented
+        self.uis: dict[int, dict[Any, Any]] = {}
+        self.script_attributes: dict[tuple[int, int], Any] = {}
+        version = 40100 if self.new_api else 30600
+        self.int_params: dict[int, int] = {0: 1, 1: version, 28: -1}  # 28: no fly-mode camera
+        self.ports: list[int] = []
+        self.errors: list[str] = []
+        self.missing: list[Unemulated] = []
+        self.statusbar: list[str] = []
+        self.enabled = enabled
+        self.on_missing: Callable[[Unemulated], None] | None = None
+        self._call_types: dict[tuple[str, str], int] = {}
+        self.started = False
+        self.passes = 0
+        self._steps_seen = 0
+        self._tmp = tempfile.TemporaryDirectory(prefix="sitegen-lua-")
+        self.scripts = self._collect(source, customization) if enabled else []
+        self._remove_hook = world.add_step_hook(self.on_step)
+
+    # -- scripts -------------------------------------------------------------------------------
+    def _collect(self, source: Any, customization: bool) -> list[ScriptRun]:
+        runs: list[ScriptRun] = []
+        by_handle = {o.handle: o for o in getattr(source, "objects", ())}
+        kinds = ("child", "customization") if customization else ("child",)
+        for script in getattr(source, "scripts", ()):
+            if script.kind not in kinds or script.disabled or not script.text.strip():
+                continue
+            obj = by_handle.get(script.object)
+            name = obj.name if obj is not None else f"script{len(runs) + 1}"
+            handle = self.world.handle(obj.name) if obj is not None else None
+            label = name if script.kind == "child" else f"{name} (customization)"
+            runs.append(
+                ScriptRun(
+                    label, script.kind, script.threaded, handle or -1, len(runs) + 1, script.text
+                )
+            )
+        return runs
+
+    def _load(self, run: ScriptRun) -> None:
+        state = LuaState(
+            self._tmp.name, lambda name, line, r=run: self._note_missing(r, name, line)
+        )
+        run.state = state
+        ctx = Context(self, run)
+        sim = state.module("sim")
+        modules: dict[str, Any] = {"sim": sim}
+        for name, fn in REGISTRY.items():
+            wrapped = _bind(fn, ctx)
+            if "." in name:
+                mod, _, member = name.partition(".")
+                if mod not in modules:
+                    modules[mod] = state.module(mod)
+                state.set_function(modules[mod], member, wrapped, run.threaded, name)
+                continue
+            state.set_function(sim, name, wrapped, run.threaded, "sim." + name)
+            state.g[old_name(name).encode()] = sim[name.encode()]
+        for old, new in OLD_NAMES.items():
+            target = new if "." in new else "sim." + new
+            mod, _, member = target.partition(".")
+            if mod in modules:
+                state.g[old.encode()] = modules[mod][member.encode()]
+        for k, v in constants(self.new_api).items():
+            sim[k.encode()] = v
+            state.g[("sim_" + k).encode()] = v
+        rt = state.rt
+        sim[b"switchThread"] = rt.switch
+        state.g[b"simSwitchThread"] = rt.switch
+        now = sim[b"getSimulationTime"]
+        waiter = state.lua.eval(b"function(rt, now) return function(dt) rt.wait(dt, now) end end")
+        sim[b"wait"] = waiter(rt, now)
+        state.g[b"simWait"] = sim[b"wait"]
+        run.chunk = state.compile(run.text, run.name)
+
+    def _note_missing(self, run: ScriptRun, name: str, line: int) -> None:
+        item = Unemulated(name, self.scene, run.name, line)
+        if item not in self.missing:
+            self.missing.append(item)
+            if self.on_missing is not None:
+                self.on_missing(item)
+
+    def _error(self, run: ScriptRun, exc: Exception) -> None:
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        message = f"{self.scene}: {first}"
+        if message not in self.errors:
+            self.errors.append(message)
+            self.status(f"Lua runtime error: {first}")
+
+    # -- dispatch ------------------------------------------------------------------------------
+    def _call_type(self, run: ScriptRun, phase: str) -> int:
+        key = (run.kind, phase)
+        if key not in self._call_types:
+            self._call_types[key] = self._lookup_call_type(run, phase)
+        return self._call_types[key]
+
+    def _lookup_call_type(self, run: ScriptRun, phase: str) -> int:
+        table = constants(self.new_api)
+        prefix = "childscriptcall_" if run.kind == "child" else "customizationscriptcall_"
+        names = {
+            "init": "initialization",
+            "cleanup": "cleanup",
+            "actuation": "actuation" if run.kind == "child" else "simulationactuation",
+            "sensing": "sensing" if run.kind == "child" else "simulationsensing",
+            "before": "lastbeforesimulation",
+        }
+        return table[prefix + names[phase]]
+
+    def _dispatch(self, run: ScriptRun, phase: str) -> None:
+        if run.removed or run.state is None:
+            return
+        if not run.active and phase in ("actuation", "sensing"):
+            return
+        callback = {
+            "init": "sysCall_init",
+            "cleanup": "sysCall_cleanup",
+            "actuation": "sysCall_actuation",
+            "sensing": "sysCall_sensing",
+            "before": "sysCall_beforeSimulation",
+        }[phase]
+        try:
+            if run.new_style:
+                if callback not in run.callbacks:
+                    run.callbacks[callback] = run.state.get(callback)
+                fn = run.callbacks[callback]
+                if fn is not None:
+                    run.state.call(fn)
+            elif not run.threaded:
+                run.state.section(run.chunk, self._call_type(run, phase))
+                run.executions += 1
+        except LuaScriptError as exc:
+            self._error(run, exc)
+
+    def _init(self, run: ScriptRun) -> None:
+        try:
+            self._load(run)
+            if run.threaded:
+                run.state.set("sim_call_type", constants(self.new_api)["childscriptcall_threaded"])
+                return
+            run.state.set("sim_call_type", self._call_type(run, "init"))
+            run.state.call(run.chunk)
+            run.executions += 1
+            run.new_style = any(
+                run.state.get(n) is not None
+                for n in ("sysCall_init", "sysCall_actuation", "sysCall_sensing", "sysCall_cleanup")
+            )
+            if run.new_style:
+                self._dispatch(run, "init")
+        except LuaScriptError as exc:
+            self._error(run, exc)
+
+    def _resume(self, run: ScriptRun) -> None:
+        if not run.threaded or run.finished or run.removed or run.state is None:
+            return
+        try:
+            if run.co is None:
+                run.co = run.state.thread(run.chunk)
+            if run.state.resume(run.co) == "dead":
+                run.finished = True
+        except LuaScriptError as exc:
+            run.finished = True
+            self._error(run, exc)
+
+    def _ordered(self) -> list[ScriptRun]:
+        return [r for r in self.scripts if r.kind == "child"] + [
+            r for r in self.scripts if r.kind == "customization"
+        ]
+
+    def start(self) -> None:
+        """Initialise every script and run the first actuation (simulation start)."""
+        if self.started:
+            return
+        self.started = True
+        customs = [r for r in self.scripts if r.kind == "customization"]
+        for run in customs:
+            self._init(run)
+            if not run.new_style:
+                self._dispatch(run, "before")
+            else:
+                self._dispatch(run, "before")
+        for run in self.scripts:
+            if run.kind == "child":
+                self._init(run)
+        self.actuation()
+
+    def actuation(self) -> None:
+        for run in self.scripts:
+            if run.threaded:
+                self._resume(run)
+        for run in self._ordered():
+            if not run.threaded:
+                self._dispatch(run, "actuation")
+
+    def sensing(self) -> None:
+        for run in self._ordered():
+            if not run.threaded:
+                self._dispatch(run, "sensing")
+
+    def on_step(self, world: Any) -> None:
+        if not self.started:
+            self._steps_seen = world.steps - 1
+            self.start()
+        if world.steps < self._steps_seen:  # the world was reset without a stop: start again
+            self._steps_seen = 0
+        self._steps_seen = world.steps
+        if world.steps % self.steps_per_pass == 0:
+            self.passes += 1
+            self.sensing()
+            self.actuation()
+
+    def stop(self) -> None:
+        """Cleanup calls (simulation stop); the scripts' states are dropped, as in CoppeliaSim."""
+        if not self.started:
+            return
+        for run in self._ordered():
+            if not run.threaded or run.new_style:
+                self._dispatch(run, "cleanup")
+        for run in self.scripts:
+            run.state = run.chunk = run.co = None
+            run.callbacks.clear()
+            run.finished = run.removed = run.new_style = False
+            run.active = True
+            run.executions = 0
+        self.started = False
+        self.created.clear()
+        self.parents.clear()
+
+    def close(self) -> None:
+        self.stop()
+        self._remove_hook()
+        self._tmp.cleanup()
+
+    # -- what the sim.* functions need ---------------------------------------------------------
+    @property
+    def time(self) -> float:
+        return float(self.world.time)
+
+    def state_code(self) -> int:
+        return 0x11 if self.started else 0x00
+
+    def status(self, message: str) -> None:
+        self.statusbar.append(message)
+        if self._status is not None:
+            self._status(message)
+
+    def serve(self, port: int) -> None:
+        if port not in self.ports:
+            self.ports.append(port)
+
+    def find(self, name: str, script: ScriptRun | None = None) -> int | None:
+        """A name as a script means it: in a script attached to ``robot#0``, ``wheel`` is
+        ``wheel#0`` (CoppeliaSim's name-suffix rule for copied models); ``wheel#`` is exact."""
+        for h, o in self.created.items():
+            if o["name"] == name:
+                return h
+        if script is not None and "#" not in name:
+            owner = self.world.name_of(script.object) if script.object > 0 else None
+            base, sep, suffix = (owner or "").rpartition("#")
+            if sep and suffix.isdigit():
+                found = self.world.find(f"{name}#{suffix}")
+                if found is not None:
+                    return found
+        return self.world.find(name.rstrip("#") if name.endswith("#") else name)
+
+    def not_found(self, ctx: Context, message: str) -> Any:
+        if self.new_api or self.int_params.get(0, 1) & 1 == 0:
+            return ctx.state.fail(message) if self.new_api else -1
+        self.status(f"Lua API warning: {message}")
+        return -1
+
+    def create(self, base: str, kind: int, extra: dict[str, Any]) -> int:
+        handle = len(self.world.tree()) + len(self.created) + 1
+        while handle in self.created:
+            handle += 1
+        names = {o["name"] for o in self.created.values()}
+        name, i = base, 0
+        while name in names or self.world.find(name) is not None:
+            name, i = f"{base}{i}", i + 1
+        self.created[handle] = {
+            "name": name,
+            "type": kind,
+            "pos": [0.0, 0.0, 0.0],
+            "quat": [0.0, 0.0, 0.0, 1.0],
+            "parent": -1,
+            **extra,
+        }
+        return handle
+
+    def new_ui(self, data: dict[Any, Any]) -> int:
+        handle = max(self.uis, default=0) + 1
+        self.uis[handle] = dict(data)
+        return handle
+
+    def script_by_handle(self, handle: int) -> ScriptRun | None:
+        return next((r for r in self.scripts if r.handle == handle), None)
+
+    def script_named(self, name: str, kind: str = "child") -> ScriptRun | None:
+        """The script attached to the object ``name`` (``name#``/``name#0`` too)."""
+        base = name.split("#")[0] if name.endswith(("#", "#0")) else name
+        h = self.world.find(base)
+        for run in self.scripts:
+            if run.kind == kind and (run.object == h or run.name.split(" (")[0] == base):
+                return run
+        return None
+
+    def call_function(self, script: str, kind: str, function: str, args: tuple) -> tuple:
+        """Call a script's Lua function (simxCallScriptFunction); raises LookupError or
+        LuaScriptError. Returns its results converted to Python."""
+        from .runtime import to_py
+
+        if not self.started:
+            self.start()
+        run = self.script_named(script, kind)
+        if run is None or run.state is None:
+            raise LookupError(f"no {kind} script attached to {script!r} is running")
+        fn = run.state.get(function)
+        if fn is None:
+            raise LookupError(f"script {run.name!r} has no function {function!r}")
+        out = run.state.call(fn, *args)
+        return tuple(to_py(v) for v in out)
+
+    def report(self) -> list[str]:
+        """The end-of-run lines: script errors, then functions not emulated."""
+        lines = [f"[lua] script error: {e}" for e in self.errors]
+        if self.missing:
+            lines.append("[lua] functions the scene's scripts called that are not emulated:")
+            lines += [f"  {m.describe()}" for m in self.missing]
+        return lines
+
+
+def _bind(fn: Callable[..., Any], ctx: Context) -> Callable[..., Any]:
+    state = ctx.state
+
+    def call(*args: Any) -> Any:
+        try:
+            out = fn(ctx, *args)
+        except (ValueError, TypeError, KeyError, IndexError, struct_error) as exc:
+            return state.fail(str(exc) or type(exc).__name__)
+        except Exception as exc:  # a command error from the remote API layer
+            return state.fail(str(exc) or type(exc).__name__)
+        if isinstance(out, tuple):
+            if out and out[0] is state.err:
+                return out
+            return tuple(state.to_lua(v) for v in out)
+        return state.to_lua(out)
+
+    return call
+
+
+from struct import error as struct_error  # noqa: E402
+
+
+def text_of(value: Any) -> str:
+    return text(value)

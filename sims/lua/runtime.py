@@ -1,0 +1,168 @@
+"""One scene script in its own Lua 5.4 state (lupa), as CoppeliaSim gives each script its own.
+
+``LuaState`` owns the interpreter: the sandbox prelude (prelude.py), the ``sim`` table and the
+old-style globals (``simGetObjectHandle``, ``sim_handle_self``...), conversions between Python
+and Lua values, and the three ways a script is entered: ``call`` (a function runs to its end
+within the instruction budget), ``resume`` (a threaded script's coroutine runs until it yields
+at ``sim.switchThread``/``sim.wait``/an automatic switch) and ``compile``.
+
+Python never sees a Lua string as ``str`` by accident: the state runs with ``encoding=None``, so
+Lua strings arrive as bytes (a packed buffer stays a buffer) and ``to_lua`` encodes ``str``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import lupa.lua54 as lua54
+
+from .prelude import PRELUDE
+
+#: Lua instructions one virtual step is worth: a threaded script switches after this many
+#: (CoppeliaSim's automatic thread switch), and a script that runs MAX_STEPS times this without
+#: returning or yielding is stopped as an endless loop, naming its line.
+STEP_BUDGET = 200_000
+MAX_STEPS = 50
+MAX_MEMORY = 256 << 20  # bytes per script state
+
+
+class LuaScriptError(Exception):
+    """A script raised a Lua error (the message starts with ``script:line:``)."""
+
+
+class _Error:
+    """Marks a failed sim.* call: the Lua wrapper raises it at the script's line."""
+
+
+def _deny(obj: Any, name: Any, setting: bool) -> Any:
+    raise AttributeError("Python attributes are not reachable from scene scripts")
+
+
+class LuaState:
+    """A sandboxed Lua 5.4 interpreter for one script."""
+
+    def __init__(self, tmp_dir: str, missing: Callable[[str, int], None]):
+        self.lua = lua54.LuaRuntime(
+            encoding=None,
+            register_eval=False,
+            register_builtins=False,
+            unpack_returned_tuples=True,
+            attribute_filter=_deny,
+            max_memory=MAX_MEMORY,
+        )
+        py = self.table_of(
+            {"step_budget": STEP_BUDGET, "max_steps": MAX_STEPS},
+        )
+        py[b"missing"] = lambda name, line: missing(_text(name), int(line))
+        self.err = self.lua.table()
+        tmp = str(tmp_dir).rstrip("/").encode()
+        self.rt = self.lua.execute(PRELUDE.encode(), py, self.err, tmp, True)
+        self.g = self.lua.globals()
+
+    # -- values --------------------------------------------------------------------------------
+    def table_of(self, mapping: dict) -> Any:
+        t = self.lua.table()
+        for k, v in mapping.items():
+            t[k.encode() if isinstance(k, str) else k] = self.to_lua(v)
+        return t
+
+    def to_lua(self, value: Any) -> Any:
+        if isinstance(value, (int, float)):  # the common case first: sim.* calls return numbers
+            return value
+        if isinstance(value, str):
+            return value.encode("utf-8")
+        if isinstance(value, bytearray):
+            return bytes(value)
+        if isinstance(value, (list, tuple)):  # one lupa call fills the array part
+            return self.lua.table(*[self.to_lua(v) for v in value])
+        if isinstance(value, dict):
+            return self.table_of(value)
+        return value
+
+    def fail(self, message: str) -> tuple:
+        """What a sim.* Python function returns to make its Lua wrapper raise ``message``."""
+        return (self.err, message)
+
+    def set_function(self, table: Any, name: str, fn: Callable, threaded: bool, label: str) -> None:
+        table[name.encode()] = self.rt.wrap(fn, label.encode(), threaded)
+
+    def module(self, name: str) -> Any:
+        """A table whose unknown members are reported stubs (``sim``, ``simUI``...)."""
+        t = self.rt.module(name.encode(), self.lua.table())
+        self.g[name.encode()] = t
+        return t
+
+    # -- running -------------------------------------------------------------------------------
+    def compile(self, text: str, name: str) -> Any:
+        out = self.rt.compile(text.encode("utf-8"), name.encode("utf-8"))
+        fn, err = out if isinstance(out, tuple) else (out, None)
+        if fn is None:
+            raise LuaScriptError(_text(err))
+        return fn
+
+    def call(self, fn: Any, *args: Any) -> tuple:
+        """Run ``fn`` to its end; its results, or LuaScriptError with the script's line."""
+        out = self.rt.call(fn, *[self.to_lua(a) for a in args])
+        if not isinstance(out, tuple):
+            out = (out,)
+        if not out[0]:
+            raise LuaScriptError(_text(out[1]) if len(out) > 1 else "error")
+        return out[1:]
+
+    def section(self, fn: Any, call_type: int) -> None:
+        """Run an old-style chunk with ``sim_call_type`` = ``call_type``."""
+        out = self.rt.section(fn, call_type)
+        if isinstance(out, tuple) and not out[0]:
+            raise LuaScriptError(_text(out[1]) if len(out) > 1 else "error")
+        if out is False:
+            raise LuaScriptError("error")
+
+    def thread(self, fn: Any) -> Any:
+        return self.rt.thread(fn)
+
+    def resume(self, co: Any) -> str:
+        """Resume a threaded script; "suspended" (it yielded) or "dead" (it ended)."""
+        out = self.rt.resume(co)
+        ok, status = out if isinstance(out, tuple) else (out, None)
+        if not ok:
+            raise LuaScriptError(_text(status))
+        return _text(status)
+
+    def get(self, name: str) -> Any:
+        return self.g[name.encode()]
+
+    def set(self, name: str, value: Any) -> None:
+        self.g[name.encode()] = self.to_lua(value)
+
+
+def _text(value: Any) -> str:
+    if isinstance(value, bytes):
+        return value.decode("utf-8", "replace")
+    return str(value)
+
+
+def to_py(value: Any) -> Any:
+    """A Lua value as Python: strings stay bytes; a table becomes a list (1..n) or a dict."""
+    if lua54.lua_type(value) == "table":
+        keys = list(value.keys())
+        n = len(keys)
+        if all(isinstance(k, int) for k in keys) and set(keys) == set(range(1, n + 1)):
+            return [to_py(value[i]) for i in range(1, n + 1)]
+        return {(_text(k) if isinstance(k, bytes) else k): to_py(v) for k, v in value.items()}
+    return value
+
+
+def numbers(value: Any) -> list[float]:
+    """A Lua table of numbers as a list of floats (None, or a non-table: empty)."""
+    if lua54.lua_type(value) != "table":
+        return []
+    return [float(v) for v in to_py(value) if isinstance(v, (int, float))]
+
+
+def text(value: Any) -> str:
+    return _text(value)
+
+
+def seq(values: Iterable[Any]) -> list[Any]:
+    return list(values)

@@ -1,0 +1,210 @@
+"""The ZeroMQ remote API server side, in process: requests in the protocol's shape, answered on
+the run's emulated World.
+
+CoppeliaSim's ZeroMQ add-on takes a request ``{"func": "sim.getObject", "args": [...]}`` and
+answers ``{"ret": [...]}`` or ``{"err": "message"}`` (``PROTOCOL.md`` of
+CoppeliaRobotics/zmqRemoteApi). ``ZmqServer.handle`` does exactly that, without the CBOR and
+ZeroMQ transport: the in-process client (``client.py``) calls it directly, so a script's calls
+reach the same ``Simulator`` (virtual clock, simulation state, signals) the legacy API uses.
+
+Why requests and not direct method calls: the protocol's shape fixes what a script can observe
+(arguments made plain as CBOR would make them, one list of return values, errors as text) and
+would let a CBOR/ZeroMQ transport be put in front of it unchanged.
+
+Functions the emulation lacks, unknown object paths and invalid handles are errors, as in
+CoppeliaSim (the client raises them); each is also noted once on stderr with the script line
+that caused it; unknown objects and missing functions also go to ``Session.missing``, which the
+run's summary lists with the nearest names in the scene.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import numbers
+from typing import Any, NoReturn
+
+from ..client import Session, script_site
+from ..commands import CommandError
+from . import paths
+from .constants import CONSTANTS
+from .registry import NOT_EMULATED
+
+
+class ZmqError(Exception):
+    """A request failed on the server side: the reply carries ``err``."""
+
+
+def plain(value: Any) -> Any:
+    """An argument as CBOR would carry it: tuples and numpy arrays become lists, numpy
+    scalars Python numbers."""
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if hasattr(value, "tolist") and not isinstance(value, (bytes, bytearray, str)):
+        return plain(value.tolist())
+    return value
+
+
+class ZmqServer:
+    """One ZeroMQ remote API server for one ``Session`` (all its clients)."""
+
+    def __init__(self, session: Session, functions: dict[str, Any]):
+        self.session = session
+        self.functions = functions  # "sim.name" -> implementation (zmq/functions.py)
+        self.stepping: dict[str, int] = {}  # stepping level per client uuid
+        self.params: dict[int, Any] = {}  # sim.setInt32Param and friends
+        self.targets: dict[int, tuple[str, float]] = {}  # last joint target per handle
+        self.client_uuid = ""  # the client whose request is being handled
+        self._tree_cache: tuple[Any, tuple, paths.Tree] | None = None
+
+    # --- the World ------------------------------------------------------------------------
+    @property
+    def simulator(self):
+        return self.session.simulator
+
+    @property
+    def world(self):
+        return self.session.simulator.load()
+
+    def tree(self) -> paths.Tree:
+        """The World's object tree (``World.tree()``), indexed; rebuilt when the World is."""
+        world = self.world
+        key = tuple(world.names())
+        cached = self._tree_cache
+        if cached is not None and cached[0] is world and cached[1] == key:
+            return cached[2]
+        tree = paths.Tree(world.tree())
+        self._tree_cache = (world, key, tree)
+        return tree
+
+    def entry(self, handle: Any, func: str) -> Any:
+        h = self.handle_arg(handle, func, 1)
+        found = self.tree().by_handle.get(h)
+        if found is None:
+            self.fail("handle", f"object handle {h} does not exist", func)
+        return found
+
+    # --- errors -----------------------------------------------------------------------------
+    def note(self, kind: str, what: str, missing: str = "", nearest: tuple = ()) -> None:
+        """Say once on stderr what went wrong, with the script line; an unknown object or a
+        function the emulation lacks also goes to the run's summary (``Session.missing``)."""
+        site = script_site()
+        self.session.warn_once(f"zmq:{kind}:{what}:{site}", f"{site}: {what}")
+        if kind == "path":
+            self.session.note_missing("object", missing or what, site, nearest)
+        elif kind == "function":
+            self.session.note_missing("function", missing or what, site)
+
+    def fail(self, kind: str, what: str, func: str, missing: str = "", nearest=()) -> NoReturn:
+        """Raise the error CoppeliaSim would send for ``func``, noting it first."""
+        message = f"{what}. (in function '{func}')"
+        self.note(kind, message, missing, tuple(nearest))
+        raise ZmqError(message)
+
+    # --- arguments --------------------------------------------------------------------------
+    def handle_arg(self, value: Any, func: str, position: int) -> int:
+        if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+            return int(value)
+        if isinstance(value, float) and value.is_integer():
+            return int(value)
+        self.fail("argument", f"argument {position}: object handle expected, got {value!r}", func)
+
+    def number_arg(self, value: Any, func: str, position: int) -> float:
+        if isinstance(value, numbers.Real) and not isinstance(value, bool):
+            return float(value)
+        self.fail("argument", f"argument {position}: number expected, got {value!r}", func)
+
+    def vector_arg(self, value: Any, n: int, func: str, position: int) -> list[float]:
+        if not isinstance(value, list) or len(value) < n:
+            self.fail("argument", f"argument {position}: table of {n} numbers expected", func)
+        return [self.number_arg(v, func, position) for v in value[:n]]
+
+    def string_arg(self, value: Any, func: str, position: int) -> str:
+        if isinstance(value, str):
+            return value
+        if isinstance(value, (bytes, bytearray)):
+            return bytes(value).decode("utf-8", "replace")
+        self.fail("argument", f"argument {position}: string expected, got {value!r}", func)
+
+    def world_call(self, func: str, run, *args: Any) -> Any:
+        """Run a legacy ``commands`` function, turning its CommandError into this API's error."""
+        try:
+            return run(self.world, *args)
+        except (CommandError, KeyError) as exc:
+            text = str(exc).strip("'\"")
+            kind = "handle" if "does not exist" in text else "argument"
+            self.fail(kind, text, func)
+
+    # --- stepping ---------------------------------------------------------------------------
+    def apply_stepping(self) -> None:
+        sim = self.simulator
+        stepped = any(level > 0 for level in self.stepping.values())
+        if stepped != sim.synchronous:
+            sim.sync()
+            sim.synchronous = stepped
+
+    # --- requests ---------------------------------------------------------------------------
+    def handle(self, request: dict[str, Any]) -> dict[str, Any]:
+        """Answer one request ``{"func", "args", "uuid"}`` with ``{"ret"}`` or ``{"err"}``."""
+        functions = self.functions
+        func = str(request.get("func", ""))
+        args = plain(list(request.get("args") or []))
+        self.client_uuid = str(request.get("uuid", ""))
+        with self.session.lock:
+            if self.simulator is None:
+                return {"err": "no scene is configured (in function '" + func + "')"}
+            try:
+                if func == "zmqRemoteApi.info":
+                    return {"ret": [self.info(str(args[0]) if args else "")]}
+                if func == "zmqRemoteApi.require":
+                    name = str(args[0]).split("-")[0] if args else ""
+                    if name != "sim":
+                        self.fail("function", f"module {name!r} is not emulated", func, name)
+                    return {"ret": []}
+                impl = functions.get(func)
+                if impl is None:
+                    why = "is not emulated by sitegen" if func in NOT_EMULATED else "does not exist"
+                    if not func.startswith("sim."):
+                        why = "does not exist"
+                    self.fail("function", f"{func} {why}", func, missing=func)
+                try:
+                    _signature(impl).bind(self, *args)
+                except TypeError:
+                    self.fail("argument", f"wrong number of arguments ({len(args)})", func)
+                if func != "sim.step":
+                    self.simulator.call(blocking=False)
+                ret = impl(self, *args)
+            except ZmqError as exc:
+                return {"err": str(exc)}
+            except Exception as exc:  # a bad value deep in an argument: still the call's error
+                message = f"{type(exc).__name__}: {exc}. (in function '{func}')"
+                self.note("argument", message)
+                return {"err": message}
+        return {"ret": list(ret) if isinstance(ret, tuple) else [ret]}
+
+    def info(self, name: str) -> dict[str, Any]:
+        """``zmqRemoteApi.info``: the module's functions and constants, as the client expects."""
+        if name != "sim":
+            return {}
+        out: dict[str, Any] = {k: {"const": v} for k, v in CONSTANTS.items()}
+        # functions not emulated are listed too: calling one answers "not emulated" (an
+        # error naming it) instead of the client's AttributeError
+        for func in (*self.functions, *NOT_EMULATED):
+            out[func[len("sim.") :]] = {"func": {}}
+        return out
+
+
+@functools.cache
+def _signature(fn) -> inspect.Signature:
+    return inspect.signature(fn)
+
+
+def release_stepping(session: Session) -> None:
+    """The script has ended: its clients no longer hold the simulation in stepping mode (so
+    ``--after`` lets the world run on)."""
+    server = getattr(session, "zmq_server", None)
+    if server is not None and session.simulator is not None:
+        server.stepping.clear()
+        server.apply_stepping()

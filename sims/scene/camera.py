@@ -1,0 +1,78 @@
+"""Images from a scene's vision sensors, rendered by pybullet's TinyRenderer (CPU, headless).
+
+A CoppeliaSim vision sensor looks along its frame's +z with the image's up along its +y; its
+view angle spans the larger side of the image (perspective), or ``ortho_size`` metres
+(orthographic). CoppeliaSim hands images out bottom row first (OpenGL order), RGB or grey, and
+the legacy remote API delivers them as signed bytes: ``image_for_remote_api`` does the same so
+that scripts which flip and reinterpret the buffer see what they would see in CoppeliaSim.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from sims.quiet import pybullet as p
+from sims.quiet import quiet_fd
+from sims.scene.model import VisionSensorData
+
+MAX_SIDE = 1024  # px: larger saved resolutions are refused (render time)
+
+
+def _projection(data: VisionSensorData, width: int, height: int) -> list[float]:
+    near, far = max(data.near, 1e-4), max(data.far, data.near + 1e-3)
+    if not data.perspective:
+        half = data.ortho_size / 2
+        ratio = width / height
+        hx, hy = (half, half / ratio) if width >= height else (half * ratio, half)
+        return list(p.computeProjectionMatrix(-hx, hx, -hy, hy, near, far))
+    angle = min(max(data.view_angle, 1e-3), math.pi - 1e-3)
+    if width >= height:
+        vertical = 2 * math.atan(math.tan(angle / 2) * height / width)
+    else:
+        vertical = angle
+    return list(p.computeProjectionMatrixFOV(math.degrees(vertical), width / height, near, far))
+
+
+def render_sensor(world: Any, name: str) -> np.ndarray:
+    """HxWx3 uint8 RGB, top row first, from the vision sensor ``name`` of a scene World."""
+    data = world.model.data.get(name)
+    sensor = getattr(data, "vision_sensor", None)
+    if sensor is None:
+        raise KeyError(f"{name!r} is not a vision sensor")
+    width, height = (max(1, int(v)) for v in sensor.resolution)
+    if width > MAX_SIDE or height > MAX_SIDE:
+        raise ValueError(f"{name}: resolution {width}x{height} is larger than {MAX_SIDE}")
+    world.sync_visuals()
+    pos, orn = world.object_pose(name)
+    m = p.getMatrixFromQuaternion(orn)
+    z = (m[2], m[5], m[8])
+    y = (m[1], m[4], m[7])
+    target = (pos[0] + z[0], pos[1] + z[1], pos[2] + z[2])
+    view = p.computeViewMatrix(pos, target, y)
+    with quiet_fd(1), quiet_fd(2):
+        img = p.getCameraImage(
+            width,
+            height,
+            view,
+            _projection(sensor, width, height),
+            renderer=p.ER_TINY_RENDERER,
+            flags=p.ER_NO_SEGMENTATION_MASK,
+            physicsClientId=world.client_id,
+        )
+    rgba = np.asarray(img[2], dtype=np.uint8).reshape(height, width, 4)
+    return np.ascontiguousarray(rgba[:, :, :3])
+
+
+def image_for_remote_api(rgb: np.ndarray, grey: bool) -> tuple[list[int], list[int]]:
+    """([width, height], flat signed-byte image, bottom row first) as simxGetVisionSensorImage
+    returns them."""
+    height, width = rgb.shape[:2]
+    rows = rgb[::-1]
+    if grey:
+        rows = np.round(rows.astype(np.float32).mean(axis=2)).astype(np.uint8)
+    flat = rows.reshape(-1).astype(np.int16)
+    signed = np.where(flat > 127, flat - 256, flat)
+    return [width, height], signed.astype(int).tolist()

@@ -1,0 +1,172 @@
+"""Collision and visual shapes for one part of a scene shape, and collision filter groups.
+
+A CoppeliaSim shape is one mesh or a compound of meshes; each mesh is a primitive (cuboid,
+cylinder, sphere, disc, cone, plane) or a triangle mesh. Primitives become pybullet primitives
+(exact and fast to collide); a cone, an ellipsoid or a plain mesh becomes a pybullet mesh built
+from the saved vertices. pybullet can only collide a *dynamic* body with a convex mesh, so a
+dynamic mesh collides as its convex hull (as CoppeliaSim's Bullet engine does with a non-pure
+dynamic shape); a static mesh keeps its triangles.
+
+Collision filters: respondable shapes are in group ``RESPONDABLE`` and collide with each other;
+non-respondable shapes keep a collision shape in group ``DETECTABLE`` that collides with nothing
+but is still hit by ray tests, so proximity sensors see it as CoppeliaSim's do.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from sims.quiet import pybullet as p
+from sims.scene.model import Mesh, Pose
+
+RAY = 1  # the group pybullet's ray tests belong to
+RESPONDABLE = 2
+DETECTABLE = 4
+THIN = 0.0005  # m: half thickness given to discs and planes
+
+
+@dataclass(frozen=True)
+class Part:
+    """One mesh placed in a link's frame (``pose``), with what it does."""
+
+    mesh: Mesh
+    pose: Pose
+    respondable: bool
+    static: bool
+    visible: bool
+    owner: str  # the scene shape it comes from (for messages)
+
+
+def _mesh_points(mesh: Mesh) -> list[tuple[float, float, float]]:
+    v = mesh.vertices
+    return [(v[i], v[i + 1], v[i + 2]) for i in range(0, len(v) - 2, 3)]
+
+
+def _cone_mesh(radius: float, height: float, sides: int = 24) -> tuple[list, list]:
+    """A cone along z centred on its bounding box (CoppeliaSim's cone primitive frame)."""
+    pts = [(0.0, 0.0, height / 2), (0.0, 0.0, -height / 2)]
+    for k in range(sides):
+        a = 2 * math.pi * k / sides
+        pts.append((radius * math.cos(a), radius * math.sin(a), -height / 2))
+    tris: list[int] = []
+    for k in range(sides):
+        a, b = 2 + k, 2 + (k + 1) % sides
+        tris += [0, a, b, 1, b, a]
+    return pts, tris
+
+
+def geometry(part: Part) -> tuple[dict, dict] | None:
+    """Keyword arguments for createCollisionShape and createVisualShape, or None if empty."""
+    m = part.mesh
+    sx, sy, sz = m.size
+    kind = m.primitive
+    if kind == "sphere" and not (math.isclose(sx, sy) and math.isclose(sy, sz)) and m.vertices:
+        kind = None  # an ellipsoid: use its mesh
+    if kind == "cuboid" or kind == "plane":
+        half = (max(sx, 2 * THIN) / 2, max(sy, 2 * THIN) / 2, max(sz, 2 * THIN) / 2)
+        return {"shapeType": p.GEOM_BOX, "halfExtents": half}, {
+            "shapeType": p.GEOM_BOX,
+            "halfExtents": half,
+        }
+    if kind == "sphere":
+        r = max(sx, sy, sz) / 2
+        return {"shapeType": p.GEOM_SPHERE, "radius": r}, {"shapeType": p.GEOM_SPHERE, "radius": r}
+    if kind in ("cylinder", "disc"):
+        r = max(sx, sy) / 2
+        h = max(sz, 2 * THIN)
+        return {"shapeType": p.GEOM_CYLINDER, "radius": r, "height": h}, {
+            "shapeType": p.GEOM_CYLINDER,
+            "radius": r,
+            "length": h,
+        }
+    if kind == "cone" and not m.vertices:
+        pts, tris = _cone_mesh(max(sx, sy) / 2, sz)
+    else:
+        pts, tris = _mesh_points(m), list(m.indices)
+    if len(pts) < 3 or len(tris) < 3:
+        return None
+    col = {"shapeType": p.GEOM_MESH, "vertices": pts, "indices": tris}
+    vis = {"shapeType": p.GEOM_MESH, "vertices": pts, "indices": tris}
+    return col, vis
+
+
+def is_primitive(part: Part) -> bool:
+    g = geometry(part)
+    return g is not None and g[0]["shapeType"] != p.GEOM_MESH
+
+
+def create_collision(client: int, part: Part, fixed: bool) -> int:
+    """A collision shape for one part (-1 if it has no geometry). A mesh on a moving link
+    collides as its convex hull; fixed geometry keeps its triangles."""
+    g = geometry(part)
+    if g is None:
+        return -1
+    col = dict(g[0])
+    if col["shapeType"] == p.GEOM_MESH and not fixed:
+        del col["indices"]
+    return p.createCollisionShape(
+        **col,
+        collisionFramePosition=part.pose.position,
+        collisionFrameOrientation=part.pose.quaternion,
+        physicsClientId=client,
+    )
+
+
+def mesh_file(points: list, triangles: list) -> str:
+    """The mesh as a Wavefront OBJ file in a cache folder, named by its content (pybullet's EGL
+    renderer draws meshes from files only, not from vertex arrays). Written once, atomically."""
+    text = "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in points)
+    text += "".join(
+        f"f {triangles[i] + 1} {triangles[i + 1] + 1} {triangles[i + 2] + 1}\n"
+        for i in range(0, len(triangles) - 2, 3)
+    )
+    digest = hashlib.sha256(text.encode()).hexdigest()[:32]
+    folder = Path(tempfile.gettempdir()) / "sitegen-scene-meshes"
+    target = folder / f"{digest}.obj"
+    if not target.is_file():
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile("w", dir=folder, suffix=".tmp", delete=False) as f:
+            f.write(text)
+        os.replace(f.name, target)
+    return str(target)
+
+
+def create_visual(client: int, part: Part) -> int:
+    """A visual shape for one visible part in its colour (-1 if invisible or empty)."""
+    if not (part.visible and part.mesh.visible):
+        return -1
+    g = geometry(part)
+    if g is None:
+        return -1
+    vis = dict(g[1])
+    if vis["shapeType"] == p.GEOM_MESH:
+        vis = {
+            "shapeType": p.GEOM_MESH,
+            "fileName": mesh_file(vis["vertices"], vis["indices"]),
+            "meshScale": (1.0, 1.0, 1.0),
+        }
+    return p.createVisualShape(
+        **vis,
+        visualFramePosition=part.pose.position,
+        visualFrameOrientation=part.pose.quaternion,
+        rgbaColor=(*part.mesh.color, 1.0),
+        specularColor=(0.1, 0.1, 0.1),
+        physicsClientId=client,
+    )
+
+
+def set_filter(client: int, body: int, link: int, respondable: bool) -> None:
+    group, mask = (RESPONDABLE, RESPONDABLE | RAY) if respondable else (DETECTABLE, RAY)
+    p.setCollisionFilterGroupMask(body, link, group, mask, physicsClientId=client)
+
+
+def mask_allows(mask_a: int, mask_b: int, same_model: bool) -> bool:
+    """CoppeliaSim's respondable masks: the low byte between shapes of one model, the high byte
+    between shapes of different models."""
+    bits = 0x00FF if same_model else 0xFF00
+    return bool(mask_a & mask_b & bits)

@@ -1,0 +1,305 @@
+"""``sitegen scene show PATH [--json]``: what a CoppeliaSim scene file holds, as the readers see it
+(and ``sitegen scene xml PATH [-o OUT]``: the same scene written as a ``.simscene.xml``).
+
+The text form is the object tree, one object a line (name, alias, type, pose in the parent frame,
+then what matters for the type: joint mode and range, shape mass and dynamics, sensor range or
+resolution), the embedded scripts and the list of what was not understood. ``--json`` prints the
+same as one JSON document (stable key order, rounded numbers) for tools and tests. A file that
+cannot be read prints one ``file: error: object: message`` line and exits 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+from sims.scene.errors import SceneError
+from sims.scene.load import load_scene
+from sims.scene.model import Pose, Scene, SceneObject
+from sims.scene.rotations import euler_degrees
+
+
+def _clean(text: str) -> str:
+    """Names come from the file: keep control characters off the terminal."""
+    return "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in text)
+
+
+def _r(x: float, nd: int = 4) -> float:
+    v = round(float(x), nd)
+    return 0.0 if v == 0 else v
+
+
+def _pose_text(p: Pose) -> str:
+    pos = " ".join(f"{_r(v):g}" for v in p.position)
+    rot = " ".join(f"{_r(v, 2):g}" for v in euler_degrees(p.quaternion))
+    return f"at ({pos}) m, rot ({rot})°"
+
+
+def _details(o: SceneObject) -> str:
+    if o.joint:
+        j = o.joint
+        deg = j.kind in ("revolute", "spherical")
+        unit = "°" if deg else " m"
+
+        def val(v: float) -> str:
+            return f"{_r(math.degrees(v) if deg else v, 3):g}{unit}"
+
+        rng = "cyclic" if j.cyclic else f"[{val(j.minimum)}, {val(j.minimum + j.range)}]"
+        if j.mode == "velocity" and not j.motor_enabled:
+            return f"{j.kind}, free (motor off), range {rng}, position {val(j.position)}"
+        text = f"{j.kind}, {j.mode}, range {rng}, position {val(j.position)}"
+        if j.mode == "position":
+            text += f", target {val(j.target)}, P {_r(j.p_gain):g}"
+        if j.mode in ("position", "velocity"):
+            text += f", max {'torque' if deg else 'force'} {_r(j.max_force):g}"
+            if j.max_velocity is not None:
+                text += f", max speed {val(j.max_velocity)}/s"
+        if j.mode == "velocity":
+            text += f", target speed {val(j.target_velocity)}/s"
+        if j.mode == "spring":
+            text += f", K {_r(j.spring_k):g}, C {_r(j.spring_c):g}"
+        return text
+    if o.shape:
+        d = o.shape.dynamics
+        prims = sorted({m.primitive or "mesh" for m in o.shape.meshes})
+        parts = f"compound of {len(o.shape.meshes)}" if o.shape.compound else "simple"
+        state = "static" if d.static else "dynamic"
+        resp = "respondable" if d.respondable else "not respondable"
+        text = f"{parts} ({', '.join(prims) or 'empty'}), {state}, {resp}, mass {_r(d.mass):g} kg"
+        if d.friction is not None:
+            text += f", friction {_r(d.friction, 3):g}"
+        return text
+    if o.proximity_sensor:
+        s = o.proximity_sensor
+        text = f"{s.volume}, range {_r(s.range):g} m"
+        if s.angle:
+            text += f", angle {_r(math.degrees(s.angle), 2):g}°"
+        return text
+    if o.vision_sensor:
+        v = o.vision_sensor
+        view = f"view {_r(math.degrees(v.view_angle), 2):g}°" if v.perspective else "orthographic"
+        return f"{v.resolution[0]}x{v.resolution[1]}, {view}, near {_r(v.near):g} far {_r(v.far):g}"
+    if o.force_sensor:
+        return f"filter {o.force_sensor.filter_samples} samples"
+    if o.camera:
+        return f"view {_r(math.degrees(o.camera.view_angle), 2):g}°"
+    if o.light:
+        return f"{o.light.kind}, {'on' if o.light.enabled else 'off'}"
+    if o.dummy and o.dummy.linked_to is not None:
+        return f"linked to [{o.dummy.linked_to}] ({o.dummy.link_type or 'default'})"
+    return ""
+
+
+def text_report(scene: Scene) -> str:
+    lines = [f"{_clean(scene.source)}: {scene.format} ({_clean(scene.version)})"]
+    lines.append(f"{len(scene.objects)} objects, {len(scene.scripts)} scripts")
+    by_handle = scene.by_handle()
+    attached: dict[int, list[str]] = {}
+    for s in scene.scripts:
+        if s.object is not None:
+            attached.setdefault(s.object, []).append(s.kind)
+
+    def walk(parent: int | None, depth: int) -> None:
+        for o in scene.children(parent):
+            label = _clean(o.name)
+            if o.alias and o.alias != o.name.split("#")[0]:
+                label += f" (alias {_clean(o.alias)})"
+            info = [o.kind, _pose_text(o.pose)]
+            detail = _details(o)
+            if detail:
+                info.append(detail)
+            if o.handle in attached:
+                info.append("script: " + ", ".join(attached[o.handle]))
+            if o.model_base:
+                info.append("model")
+            lines.append(f"{'  ' * depth}{label} [{o.handle}] " + "; ".join(info))
+            walk(o.handle, depth + 1)
+
+    lines.append("")
+    walk(None, 0)
+    orphans = [o for o in scene.objects if o.parent is not None and o.parent not in by_handle]
+    for o in orphans:
+        lines.append(f"{_clean(o.name)} [{o.handle}] (parent {o.parent} missing)")
+    if scene.scripts:
+        lines.append("")
+        lines.append("Scripts:")
+        for s in scene.scripts:
+            owner = by_handle.get(s.object) if s.object is not None else None
+            where = f"on {_clean(owner.name)}" if owner else "scene"
+            flags = [x for x, on in (("threaded", s.threaded), ("disabled", s.disabled)) if on]
+            n = len(s.text.splitlines())
+            lines.append(
+                f"  {s.kind} ({where}){' ' + ', '.join(flags) if flags else ''}: {n} lines"
+            )
+    lines.append("")
+    if scene.notes:
+        lines.append("Not understood or not used:")
+        lines.extend(f"  {_clean(n.where)}: {_clean(n.message)}" for n in scene.notes)
+    else:
+        lines.append("Everything in the file was understood.")
+    return "\n".join(lines) + "\n"
+
+
+def _pose_json(p: Pose) -> dict:
+    return {
+        "position": [_r(v, 6) for v in p.position],
+        "quaternion": [_r(v, 6) for v in p.quaternion],
+        "euler_degrees": [_r(v, 3) for v in euler_degrees(p.quaternion)],
+    }
+
+
+def json_report(scene: Scene) -> str:
+    objects = []
+    for o in scene.objects:
+        item: dict = {
+            "handle": o.handle,
+            "name": o.name,
+            "alias": o.alias,
+            "path": scene.path(o),
+            "kind": o.kind,
+            "parent": o.parent,
+            "pose": _pose_json(o.pose),
+            "visible": o.visible,
+            "model_base": o.model_base,
+        }
+        if o.joint:
+            item["joint"] = {k: _round(v) for k, v in vars(o.joint).items()}
+        if o.shape:
+            d = o.shape.dynamics
+            item["shape"] = {
+                "compound": o.shape.compound,
+                "meshes": [
+                    {
+                        "primitive": m.primitive,
+                        "size": [_r(v, 6) for v in m.size],
+                        "vertices": len(m.vertices) // 3,
+                        "triangles": len(m.indices) // 3,
+                        "local": _pose_json(m.local),
+                        "color": [_r(v, 3) for v in m.color],
+                    }
+                    for m in o.shape.meshes
+                ],
+                "static": d.static,
+                "respondable": d.respondable,
+                "mass": _r(d.mass, 6),
+                "inertia": [_r(v, 9) for v in d.inertia],
+                "inertia_frame": _pose_json(d.inertia_frame),
+                "friction": None if d.friction is None else _r(d.friction, 4),
+                "respondable_mask": d.respondable_mask,
+            }
+        for key in (
+            "proximity_sensor",
+            "vision_sensor",
+            "force_sensor",
+            "camera",
+            "light",
+            "dummy",
+        ):
+            data = getattr(o, key)
+            if data is not None:
+                item[key] = {k: _round(v) for k, v in vars(data).items()}
+        objects.append(item)
+    doc = {
+        "source": scene.source,
+        "format": scene.format,
+        "version": scene.version,
+        "gravity": [_r(v, 4) for v in scene.gravity],
+        "time_step": _r(scene.time_step, 6),
+        "objects": objects,
+        "scripts": [
+            {
+                "kind": s.kind,
+                "object": s.object,
+                "threaded": s.threaded,
+                "disabled": s.disabled,
+                "text": s.text,
+            }
+            for s in scene.scripts
+        ],
+        "notes": [{"where": n.where, "message": n.message} for n in scene.notes],
+    }
+    return json.dumps(doc, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
+
+
+def _round(v: object) -> object:
+    if isinstance(v, float):
+        return _r(v, 6)
+    if isinstance(v, tuple):
+        return [_round(x) for x in v]
+    return v
+
+
+def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
+    parser = argparse.ArgumentParser(
+        prog=prog, description="Read CoppeliaSim scene files (.ttt, .simscene.xml)."
+    )
+    sub = parser.add_subparsers(dest="command", required=True)
+    show = sub.add_parser(
+        "show",
+        help="print a scene's object tree and what was not understood",
+        description="Print the object tree of a CoppeliaSim scene (.ttt or .simscene.xml): "
+        "names, types, parents, poses, joint modes and ranges, masses, sensors, scripts, and "
+        "what the reader did not understand. Loading a scene runs nothing.",
+    )
+    show.add_argument("path", help="the scene file")
+    show.add_argument("--json", action="store_true", help="print JSON instead of text")
+    conv = sub.add_parser(
+        "xml",
+        help="write a scene as CoppeliaSim's XML scene format",
+        description="Read a scene (.ttt or .simscene.xml) and write it as a .simscene.xml "
+        "(CoppeliaSim's simple XML format): what the readers understood, nothing else.",
+    )
+    conv.add_argument("path", help="the scene file")
+    conv.add_argument("-o", "--output", help="file to write (default: standard output)")
+    for p in (show, conv):  # -q/-v as on every sitegen command; errors always print
+        loud = p.add_mutually_exclusive_group()
+        loud.add_argument(
+            "-q",
+            "--quiet",
+            dest="verbosity",
+            action="store_const",
+            const=-1,
+            default=0,
+            help="print nothing but the scene's data and errors",
+        )
+        loud.add_argument(
+            "-v",
+            "--verbose",
+            dest="verbosity",
+            action="store_const",
+            const=1,
+            help="also say on standard error what was read and written",
+        )
+    args = parser.parse_args(argv)
+    try:
+        scene = load_scene(args.path)
+    except SceneError as exc:
+        print(_clean(str(exc)), file=sys.stderr)
+        return 1
+    if args.verbosity > 0:
+        print(f"read {_clean(args.path)}: {len(scene.objects)} objects", file=sys.stderr)
+    if args.command == "xml":
+        from sims.scene.xml_write import write_xml
+
+        text = write_xml(scene)
+        if args.output:
+            try:
+                with open(args.output, "w", encoding="utf-8", newline="\n") as fh:
+                    fh.write(text)
+            except OSError as exc:
+                print(f"{_clean(args.output)}: file: cannot write: {exc.strerror}", file=sys.stderr)
+                return 1
+            if args.verbosity > 0:
+                print(f"wrote {_clean(args.output)}", file=sys.stderr)
+        else:
+            sys.stdout.write(text)
+        return 0
+    out = json_report(scene) if args.json else text_report(scene)
+    sys.stdout.write(out)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

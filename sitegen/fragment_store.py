@@ -1,0 +1,121 @@
+"""Rendered Markdown kept on disk, one page at a time, so memory does not grow with the site.
+
+A build used to hold every page's HTML and text in memory from conversion to publishing
+(~90 MB at 5000 pages). Here each converted page goes into an SQLite table in the cache
+folder as soon as it is made (by whichever worker process made it) and is read back only
+when its page is rendered or the search index is written; the build keeps just the ids,
+table of contents and directives of each page (what links and the tree need).
+
+SQLite because it is in the standard library, takes concurrent writers from the worker
+processes (WAL mode, a busy timeout), and keeps the cache one file instead of thousands (file
+creation is the slow part of a build on many disks). A store that cannot be opened or read is
+replaced by an empty one: the pages it held are converted again.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import sqlite3
+from collections.abc import Iterable, Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+_SCHEMA = "CREATE TABLE IF NOT EXISTS fragment (key TEXT PRIMARY KEY, data BLOB NOT NULL)"
+
+
+class FragmentStore:
+    """``key -> Rendered`` in ``<cache>/fragments.sqlite``; safe to use after ``fork``."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self._db: sqlite3.Connection | None = None
+        self._pid = 0
+
+    def _conn(self) -> sqlite3.Connection:
+        if self._db is None or self._pid != os.getpid():  # a forked worker opens its own
+            self._db = self._open()
+            self._pid = os.getpid()
+        return self._db
+
+    def _open(self) -> sqlite3.Connection:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        for attempt in (1, 2):
+            try:
+                db = sqlite3.connect(str(self.path), timeout=120, isolation_level=None)
+                db.execute("PRAGMA journal_mode=WAL")
+                db.execute("PRAGMA synchronous=OFF")  # a cache: losing it only costs time
+                db.execute(_SCHEMA)
+                return db
+            except sqlite3.DatabaseError:
+                if attempt == 2:
+                    raise
+                for suffix in ("", "-wal", "-shm"):
+                    Path(f"{self.path}{suffix}").unlink(missing_ok=True)
+        raise AssertionError("unreachable")
+
+    def keys(self) -> set[str]:
+        try:
+            return {row[0] for row in self._conn().execute("SELECT key FROM fragment")}
+        except sqlite3.DatabaseError:
+            self.clear()
+            return set()
+
+    def get(self, key: str) -> Any:
+        row = self._conn().execute("SELECT data FROM fragment WHERE key = ?", (key,)).fetchone()
+        if row is None:
+            raise KeyError(key)
+        return pickle.loads(row[0])
+
+    def put_many(self, items: Iterable[tuple[str, Any]]) -> None:
+        rows = [(k, pickle.dumps(v, protocol=pickle.HIGHEST_PROTOCOL)) for k, v in items]
+        db = self._conn()
+        db.execute("BEGIN IMMEDIATE")
+        try:
+            db.executemany("INSERT OR REPLACE INTO fragment VALUES (?, ?)", rows)
+            db.execute("COMMIT")
+        except BaseException:
+            db.execute("ROLLBACK")
+            raise
+
+    def keep_only(self, keys: set[str]) -> None:
+        """Forget every fragment no page uses any more."""
+        stale = self.keys() - keys
+        if stale:
+            db = self._conn()
+            db.execute("BEGIN IMMEDIATE")
+            db.executemany("DELETE FROM fragment WHERE key = ?", [(k,) for k in stale])
+            db.execute("COMMIT")
+
+    def clear(self) -> None:
+        self.close()
+        for suffix in ("", "-wal", "-shm"):
+            Path(f"{self.path}{suffix}").unlink(missing_ok=True)
+
+    def close(self) -> None:
+        if self._db is not None and self._pid == os.getpid():
+            self._db.close()
+        self._db = None
+
+
+class Renders(Mapping):
+    """``url -> Rendered`` for every page: generated pages held in memory, Markdown pages
+    read from the store when asked for (nothing is kept after use)."""
+
+    def __init__(self, store: FragmentStore, keys: dict[str, str], held: dict[str, Any]):
+        self.store = store
+        self.keys_by_url = keys  # url -> source key, Markdown pages
+        self.held = held  # url -> Rendered, generated pages and folders without index.md
+
+    def __getitem__(self, url: str) -> Any:
+        found = self.held.get(url)
+        if found is not None:
+            return found
+        return self.store.get(self.keys_by_url[url])
+
+    def __iter__(self) -> Iterator[str]:
+        yield from self.held
+        yield from (url for url in self.keys_by_url if url not in self.held)
+
+    def __len__(self) -> int:
+        return len(self.held) + sum(1 for url in self.keys_by_url if url not in self.held)

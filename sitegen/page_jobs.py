@@ -1,0 +1,146 @@
+"""The per-page half of a build: links, directives, context, template, file.
+
+Each page goes through :meth:`PagePhase.run`, which may run in a forked worker
+(:mod:`sitegen.workers`): it reads only the shared, read-only build state held here and
+returns a small :class:`PageResult`; the rendered page goes straight to a file in the
+build's scratch folder, so the site's bytes never pile up in memory.
+
+Work proportional to what changed: :meth:`PagePhase.input_key` hashes what a page's output
+depends on *before* links are rewritten (its Markdown fragment, its place in the tree, its
+menu, and a digest of everything its links can point at). A page whose input key and output
+file are as the last build left them is not touched at all, and the link warnings it had
+are reported again from the cache.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from sitegen.errors import Diagnostic, Diagnostics
+from sitegen.links import LinkTargets, expand_directives, rewrite_links
+from sitegen.nav import Node, Site
+from sitegen.output import unchanged as output_unchanged
+from sitegen.pages import Menus, MenuSignatures, PageBody, context_hash, page_context, render_page
+from sitegen.theme import Theme
+
+
+@dataclass
+class PageResult:
+    """What the build keeps of a page: keys and digest for the cache, its diagnostics."""
+
+    url: str
+    input_key: str
+    context_key: str
+    digest: str
+    rendered: bool = False
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+
+def links_digest(targets: LinkTargets) -> str:
+    """Everything a link or anchor may resolve against: pages, folders, assets, ids."""
+    site = targets.site
+    h = hashlib.sha256()
+    for rel, node in sorted(site.by_source.items(), key=lambda kv: str(kv[0])):
+        h.update(f"s\0{rel}\0{node.url}\0".encode())
+    for rel, node in sorted(site.by_dir.items(), key=lambda kv: str(kv[0])):
+        h.update(f"d\0{rel}\0{node.url}\0".encode())
+    for asset in sorted(str(a) for a in targets.assets):
+        h.update(f"a\0{asset}\0".encode())
+    for url in sorted(targets.ids):
+        h.update(f"i\0{url}\0{sorted(targets.ids[url])!r}\0".encode())
+    return h.hexdigest()
+
+
+@dataclass
+class PagePhase:
+    """The read-only state every page job needs (forked workers inherit it as is)."""
+
+    site: Site
+    renders: Mapping[str, Any]  # url -> markdown_render.Rendered (read on demand)
+    sources: dict[str, str]  # url -> key of the page's source (Markdown hash) for input keys
+    tocs: dict[str, list]  # url -> the page's table of contents
+    targets: LinkTargets
+    handlers: dict
+    theme: Theme
+    theme_digest: str
+    base: dict
+    content_name: str
+    output: Path
+    manifest: dict[str, list]
+    old_pages: dict[str, tuple]
+    scratch: Path
+    salt: str  # links digest + integrations' fingerprints
+    menus: Menus = field(init=False)
+    menu_signature: MenuSignatures = field(init=False)
+
+    def __post_init__(self) -> None:
+        self._out = str(self.output)
+        self.menus = Menus(self.theme, self.site)
+        self.theme.env.get_template("page.html")  # compiled once, before workers are forked
+        self.menu_signature = MenuSignatures(self.site)
+
+    def input_key(self, node: Node) -> str:
+        body = PageBody(self.sources.get(node.url, ""), self.tocs[node.url], "")
+        ctx = page_context(self.site, node, body, self.base)
+        src = node.source
+        where = f"{src.rel}\0{src.body_line}" if src is not None else ""
+        return context_hash(
+            ctx, f"{self.theme_digest}\0{self.salt}\0{where}", self.menu_signature(node)
+        )
+
+    def reusable(self, node: Node, key: str) -> PageResult | None:
+        """The last build's result for ``node`` if nothing it depends on changed."""
+        old = self.old_pages.get(node.url)
+        if old is None or old[0] != key or not self._untouched(node.url, old[2]):
+            return None
+        return PageResult(node.url, old[0], old[1], old[2], False, list(old[3]))
+
+    def _untouched(self, url: str, digest: str) -> bool:
+        """:func:`sitegen.output.unchanged` without pathlib: called for every page."""
+        entry = self.manifest.get(url)
+        if not entry or entry[0] != digest:
+            return False
+        try:
+            st = os.stat(os.path.join(self._out, url))
+        except OSError:
+            return False
+        return entry[1:] == [st.st_size, st.st_mtime_ns, st.st_ino]
+
+    def run(self, tasks: Sequence[tuple[Node, str]]) -> list[PageResult]:
+        """Render each (node, input key); in a worker process or in the build's own."""
+        return [self.one(node, key) for node, key in tasks]
+
+    def one(self, node: Node, input_key: str) -> PageResult:
+        diags = Diagnostics()
+        src = node.source
+        rendered = self.renders[node.url]
+        body = rendered.html
+        if src is not None and src.body_html is None:
+            file = f"{self.content_name}/{src.rel}"
+            # links first: directive output is generated with final relative URLs already
+            body = rewrite_links(body, node, self.targets, diags, file, src.text, src.body_line)
+            body = expand_directives(
+                body, node, self.handlers, diags, file, rendered.directives, src.body_line
+            )
+        ctx = page_context(self.site, node, PageBody(body, rendered.toc, rendered.text), self.base)
+        key = context_hash(ctx, self.theme_digest, self.menu_signature(node))
+        old = self.old_pages.get(node.url)
+        result = PageResult(node.url, input_key, key, "", False, diags.items)
+        if old and old[1] == key and output_unchanged(self.output, node.url, self.manifest, old[2]):
+            result.digest = old[2]
+            return result
+        data = render_page(self.theme, self.menus, node, ctx)
+        target = self.scratch / node.url
+        try:
+            target.write_bytes(data)
+        except FileNotFoundError:
+            os.makedirs(target.parent, exist_ok=True)
+            target.write_bytes(data)
+        result.digest = hashlib.sha256(data).hexdigest()
+        result.rendered = True
+        return result
