@@ -16,6 +16,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TextIO
 
+from located.verbosity import add_verbosity
+
 from .diff import diff
 from .emit import to_csv, to_html, to_json
 from .load import load_roster
@@ -62,21 +64,7 @@ def _add_input_options(p: argparse.ArgumentParser) -> None:
 
 
 def _add_verbosity(p: argparse.ArgumentParser) -> None:
-    """-q/-v as on every sitegen command: quiet drops informational lines, never problems
-    or the data the command prints; verbose adds detail."""
-    group = p.add_mutually_exclusive_group()
-    group.add_argument(
-        "-q",
-        "--quiet",
-        dest="verbosity",
-        action="store_const",
-        const=-1,
-        default=0,
-        help="print only warnings, errors and the command's data",
-    )
-    group.add_argument(
-        "-v", "--verbose", dest="verbosity", action="store_const", const=1, help="more detail"
-    )
+    add_verbosity(p, "print only warnings, errors and the command's data", "more detail")
 
 
 def build_parser(prog: str) -> argparse.ArgumentParser:

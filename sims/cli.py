@@ -12,6 +12,8 @@ import shutil
 import sys
 from pathlib import Path
 
+from located.verbosity import add_verbosity
+
 DEFAULT_CACHE = ".sitegen-cache/clips"
 DEFAULT_OUT = "clips"
 
@@ -46,24 +48,10 @@ def _positive(kind: type):
 
 
 def _add_verbosity(p: argparse.ArgumentParser) -> None:
-    """-q/-v as on every sitegen command: quiet keeps failures and the command's data."""
-    group = p.add_mutually_exclusive_group()
-    group.add_argument(
-        "-q",
-        "--quiet",
-        dest="verbosity",
-        action="store_const",
-        const=-1,
-        default=0,
-        help="list: names only; render: failures only",
-    )
-    group.add_argument(
-        "-v",
-        "--verbose",
-        dest="verbosity",
-        action="store_const",
-        const=1,
-        help="list: also parameters; render: also each file written",
+    add_verbosity(
+        p,
+        "list: names only; render: failures only",
+        "list: also parameters; render: also each file written",
     )
 
 

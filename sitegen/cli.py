@@ -11,6 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from located.verbosity import add_verbosity
 from sitegen import __version__
 from sitegen.errors import BuildError
 
@@ -41,24 +42,7 @@ def make_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"sitegen {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     loud = _Parser(add_help=False)
-    group = loud.add_mutually_exclusive_group()
-    group.add_argument(
-        "-q",
-        "--quiet",
-        dest="verbosity",
-        action="store_const",
-        const=-1,
-        default=0,
-        help="print only warnings and errors",
-    )
-    group.add_argument(
-        "-v",
-        "--verbose",
-        dest="verbosity",
-        action="store_const",
-        const=1,
-        help="also print each file written",
-    )
+    add_verbosity(loud, "print only warnings and errors", "also print each file written")
     b = sub.add_parser(
         "build",
         help="build the static site",

@@ -13,38 +13,14 @@ from typing import Any
 
 import numpy as np
 
-from sims.quiet import pybullet as p
-from sims.quiet import quiet_fd
 from sims.remote_api import commands as cmd
-from sims.scene.camera import MAX_SIDE, _projection
+from sims.scene.camera import capture_sensor
 
 
 def render_with_depth(world: Any, name: str) -> tuple[np.ndarray, np.ndarray]:
     """(HxWx3 uint8 RGB, HxW linear depth 0..1), top row first."""
-    data = world.model.data.get(name)
-    sensor = getattr(data, "vision_sensor", None)
-    if sensor is None:
-        raise KeyError(f"{name!r} is not a vision sensor")
-    width, height = (max(1, int(v)) for v in sensor.resolution)
-    if width > MAX_SIDE or height > MAX_SIDE:
-        raise ValueError(f"{name}: resolution {width}x{height} is larger than {MAX_SIDE}")
-    world.sync_visuals()
-    pos, orn = world.object_pose(name)
-    m = p.getMatrixFromQuaternion(orn)
-    z, y = (m[2], m[5], m[8]), (m[1], m[4], m[7])
-    view = p.computeViewMatrix(pos, [pos[i] + z[i] for i in range(3)], y)
-    with quiet_fd(1), quiet_fd(2):
-        img = p.getCameraImage(
-            width,
-            height,
-            view,
-            _projection(sensor, width, height),
-            renderer=p.ER_TINY_RENDERER,
-            flags=p.ER_NO_SEGMENTATION_MASK,
-            physicsClientId=world.client_id,
-        )
-    rgb = np.asarray(img[2], dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
-    zbuf = np.asarray(img[3], dtype=np.float64).reshape(height, width)
+    sensor, rgba, zbuf = capture_sensor(world, name)
+    rgb = rgba[:, :, :3]
     near, far = max(sensor.near, 1e-4), max(sensor.far, sensor.near + 1e-3)
     if sensor.perspective:
         eye = far * near / (far - (far - near) * zbuf)

@@ -22,6 +22,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from located.verbosity import add_verbosity
+
 from .client import missing_report
 from .runner import DEFAULT_TIMEOUT, run_script
 from .server import SERVER_KINDS
@@ -115,24 +117,13 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     )
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
-    _add_verbosity(run, "no summary line", "also the scene and seed before the run")
-    _add_verbosity(
+    add_verbosity(run, "no summary line", "also the scene and seed before the run")
+    add_verbosity(
         sub.add_parser("functions", help="list the emulated and the unsupported simx functions"),
         "accepted as on every command; the lists are always printed",
         "accepted as on every command; the lists are always printed",
     )
     return parser
-
-
-def _add_verbosity(p: argparse.ArgumentParser, quiet: str, verbose: str) -> None:
-    """-q/-v as on every sitegen command: quiet never hides errors or the command's data."""
-    group = p.add_mutually_exclusive_group()
-    group.add_argument(
-        "-q", "--quiet", dest="verbosity", action="store_const", const=-1, default=0, help=quiet
-    )
-    group.add_argument(
-        "-v", "--verbose", dest="verbosity", action="store_const", const=1, help=verbose
-    )
 
 
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:

@@ -36,8 +36,9 @@ def _projection(data: VisionSensorData, width: int, height: int) -> list[float]:
     return list(p.computeProjectionMatrixFOV(math.degrees(vertical), width / height, near, far))
 
 
-def render_sensor(world: Any, name: str) -> np.ndarray:
-    """HxWx3 uint8 RGB, top row first, from the vision sensor ``name`` of a scene World."""
+def capture_sensor(world: Any, name: str) -> tuple[VisionSensorData, np.ndarray, np.ndarray]:
+    """(sensor data, HxWx4 uint8 RGBA, HxW z-buffer), top row first, rendered from the vision
+    sensor ``name`` of a scene World: its pose, resolution, view angle and clipping planes."""
     data = world.model.data.get(name)
     sensor = getattr(data, "vision_sensor", None)
     if sensor is None:
@@ -63,6 +64,13 @@ def render_sensor(world: Any, name: str) -> np.ndarray:
             physicsClientId=world.client_id,
         )
     rgba = np.asarray(img[2], dtype=np.uint8).reshape(height, width, 4)
+    zbuf = np.asarray(img[3], dtype=np.float64).reshape(height, width)
+    return sensor, rgba, zbuf
+
+
+def render_sensor(world: Any, name: str) -> np.ndarray:
+    """HxWx3 uint8 RGB, top row first, from the vision sensor ``name`` of a scene World."""
+    _, rgba, _ = capture_sensor(world, name)
     return np.ascontiguousarray(rgba[:, :, :3])
 
 

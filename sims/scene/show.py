@@ -15,6 +15,7 @@ import json
 import math
 import sys
 
+from located.verbosity import add_verbosity
 from sims.scene.errors import SceneError
 from sims.scene.load import load_scene
 from sims.scene.model import Pose, Scene, SceneObject
@@ -253,24 +254,11 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
     )
     conv.add_argument("path", help="the scene file")
     conv.add_argument("-o", "--output", help="file to write (default: standard output)")
-    for p in (show, conv):  # -q/-v as on every sitegen command; errors always print
-        loud = p.add_mutually_exclusive_group()
-        loud.add_argument(
-            "-q",
-            "--quiet",
-            dest="verbosity",
-            action="store_const",
-            const=-1,
-            default=0,
-            help="print nothing but the scene's data and errors",
-        )
-        loud.add_argument(
-            "-v",
-            "--verbose",
-            dest="verbosity",
-            action="store_const",
-            const=1,
-            help="also say on standard error what was read and written",
+    for p in (show, conv):  # errors always print
+        add_verbosity(
+            p,
+            "print nothing but the scene's data and errors",
+            "also say on standard error what was read and written",
         )
     args = parser.parse_args(argv)
     try:

@@ -11,6 +11,7 @@ import os
 import sys
 from pathlib import Path
 
+from located.verbosity import add_verbosity
 from sitegen.importers.cmsimde import CmsimdeImportError, ImportReport, import_cmsimde
 
 
@@ -31,23 +32,10 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         help="folder to create (default: content); must be empty unless --force",
     )
     cms.add_argument("--force", action="store_true", help="replace DEST even if it is not empty")
-    loud = cms.add_mutually_exclusive_group()
-    loud.add_argument(
-        "-q",
-        "--quiet",
-        dest="verbosity",
-        action="store_const",
-        const=-1,
-        default=0,
-        help="print only the warnings, each with its page",
-    )
-    loud.add_argument(
-        "-v",
-        "--verbose",
-        dest="verbosity",
-        action="store_const",
-        const=1,
-        help="also list every file copied and image extracted",
+    add_verbosity(
+        cms,
+        "print only the warnings, each with its page",
+        "also list every file copied and image extracted",
     )
     return parser
 
