@@ -21,6 +21,8 @@ from typing import Any
 
 import yaml
 
+from located.diagnostics import Diagnostic, LocatedError
+
 Node = yaml.Node
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
@@ -30,15 +32,18 @@ MAX_VALUES = 100_000
 MAX_DEPTH = 64
 
 
-class YamlError(Exception):
-    """A YAML document that is malformed or breaks a limit; ``line`` is 1-based in the file."""
+class YamlError(LocatedError):
+    """A YAML document that is malformed or breaks a limit; ``line`` is 1-based in the file.
+
+    A :class:`~located.diagnostics.LocatedError`, so a caller that reports located problems
+    one way (``except LocatedError``) needs no YAML case; ``column`` is set for syntax errors."""
 
     def __init__(self, file: str, line: int | None, message: str, column: int | None = None):
-        super().__init__(f"{file}:{line}: {message}" if line else f"{file}: {message}")
-        self.file = file
-        self.line = line
-        self.column = column  # 1-based, for syntax errors
-        self.message = message
+        super().__init__(Diagnostic(file, line, "", message, column=column))
+
+    @property
+    def column(self) -> int | None:
+        return self.diagnostic.column
 
 
 def line_of(node: Node, first_line: int = 1) -> int:

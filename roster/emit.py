@@ -75,41 +75,6 @@ def _plural(n: int, word: str) -> str:
     return f"{n} {word}" + ("" if n == 1 else "s")
 
 
-def _member_html(
-    result: RosterResult, leader_id: str, m: Member, labels: dict | None = None
-) -> str:
-    """One `<li>`: id (struck through when a mark says so), marks with their meaning, links."""
-    lb = {**LABELS, **(labels or {})}
-    rules = result.marks_of(m)
-    leader = (
-        f' <span class="roster-leader">({escape(lb["leader"])})</span>' if m.id == leader_id else ""
-    )
-    marks = "".join(
-        f' <span class="roster-mark"{_title(r.meaning)}>{escape(r.word, quote=True)}</span>'
-        for r in rules
-    )
-    notes = "".join(f' <span class="roster-note">{escape(n, quote=True)}</span>' for n in m.notes)
-    sid = f'<span class="roster-id">{escape(m.id, quote=True)}</span>'
-    if any(r.strike for r in rules):
-        sid = f"<s>{sid}</s>"
-    if result.linked(m):
-        m_repo, m_site = m.urls(result.course_repo)
-        links = (
-            f"{_link(m_repo, m.id + ' ' + lb['repo'])} | {_link(m_site, m.id + ' ' + lb['site'])}"
-        )
-    else:
-        why = "; ".join(r.meaning for r in rules if not r.links and r.meaning)
-        links = '<span class="roster-unlinked">not linked' + (
-            f" ({escape(why, quote=True)})</span>" if why else "</span>"
-        )
-    cls = ' class="roster-marked"' if rules else ""
-    return f"<li{cls}>{sid}{leader}{marks}{notes}: {links}</li>"
-
-
-def _title(text: str) -> str:
-    return f' title="{escape(text, quote=True)}"' if text else ""
-
-
 # Words in the HTML; sitegen passes its interface strings (zh-TW or en) in their place.
 LABELS = {
     "summary": "",  # "" = English with plurals; else "{groups} ... {members} ..."
@@ -120,37 +85,111 @@ LABELS = {
 }
 
 
-def to_html(result: RosterResult, labels: dict | None = None) -> str:
-    """An HTML fragment: a summary, then one `<section id="group-<slug>">` per group.
-
-    Each section has the group repo and site links (owned by the leader), then
-    one line per member with the id and the member's repo and site links -- the
-    same link set the course's `task1_roster_links.py` printed.
-    """
+def html_view(result: RosterResult, labels: dict | None = None) -> dict:
+    """What the HTML shows, as plain data: the one place that decides the words, which links a
+    member gets and why one gets none. :func:`to_html` writes it for the command line; the
+    site's theme writes it with ``templates/partials/roster.html``, which a project may override.
+    Values are unescaped text; the writers escape them."""
+    lb = {**LABELS, **(labels or {})}
     groups = result.roster.groups
     n_members = sum(len(g.members) for g in groups)
-    lb = {**LABELS, **(labels or {})}
     summary = (
         lb["summary"].format(groups=len(groups), members=n_members)
         if lb["summary"]
         else f"{_plural(len(groups), 'group')}, {_plural(n_members, 'member')}"
     )
-    parts = ['<div class="roster">', f'<p class="roster-summary">{escape(summary)}</p>']
+    out_groups = []
     for group in groups:
         g_repo, g_site = group.urls()
-        name = escape(group.name, quote=True)
-        parts.append(f'<section class="roster-group" id="group-{escape(group.slug, quote=True)}">')
-        parts.append(f"<h3>{name}</h3>")
         n = len(group.members)
-        count = lb["member_count"].format(n=n) if lb["member_count"] else _plural(n, "member")
+        out_groups.append(
+            {
+                "name": group.name,
+                "slug": group.slug,
+                "repo": {"url": g_repo, "text": f"{group.name} {lb['repo']}"},
+                "site": {"url": g_site, "text": f"{group.name} {lb['site']}"},
+                "count": lb["member_count"].format(n=n)
+                if lb["member_count"]
+                else _plural(n, "member"),
+                "members": [_member_view(result, group.leader, m, lb) for m in group.members],
+            }
+        )
+    return {"summary": summary, "leader": lb["leader"], "groups": out_groups}
+
+
+def _member_view(result: RosterResult, leader_id: str, m: Member, lb: dict) -> dict:
+    """One member: id (struck through when a mark says so), marks with their meaning, links."""
+    rules = result.marks_of(m)
+    links = None
+    if result.linked(m):
+        m_repo, m_site = m.urls(result.course_repo)
+        links = [
+            {"url": m_repo, "text": f"{m.id} {lb['repo']}"},
+            {"url": m_site, "text": f"{m.id} {lb['site']}"},
+        ]
+    return {
+        "id": m.id,
+        "leader": m.id == leader_id,
+        "marks": [{"word": r.word, "meaning": r.meaning} for r in rules],
+        "notes": list(m.notes),
+        "strike": any(r.strike for r in rules),
+        "links": links,
+        "unlinked_why": "; ".join(r.meaning for r in rules if not r.links and r.meaning),
+    }
+
+
+def _member_html(member: dict, leader_word: str) -> str:
+    leader = (
+        f' <span class="roster-leader">({escape(leader_word)})</span>' if member["leader"] else ""
+    )
+    marks = "".join(
+        f' <span class="roster-mark"{_title(mk["meaning"])}>{escape(mk["word"], quote=True)}</span>'
+        for mk in member["marks"]
+    )
+    notes = "".join(
+        f' <span class="roster-note">{escape(n, quote=True)}</span>' for n in member["notes"]
+    )
+    sid = f'<span class="roster-id">{escape(member["id"], quote=True)}</span>'
+    if member["strike"]:
+        sid = f"<s>{sid}</s>"
+    if member["links"] is not None:
+        links = " | ".join(_link(x["url"], x["text"]) for x in member["links"])
+    else:
+        why = member["unlinked_why"]
+        links = '<span class="roster-unlinked">not linked' + (
+            f" ({escape(why, quote=True)})</span>" if why else "</span>"
+        )
+    cls = ' class="roster-marked"' if member["marks"] else ""
+    return f"<li{cls}>{sid}{leader}{marks}{notes}: {links}</li>"
+
+
+def _title(text: str) -> str:
+    return f' title="{escape(text, quote=True)}"' if text else ""
+
+
+def to_html(result: RosterResult, labels: dict | None = None) -> str:
+    """An HTML fragment: a summary, then one `<section id="group-<slug>">` per group.
+
+    Each section has the group repo and site links (owned by the leader), then
+    one line per member with the id and the member's repo and site links -- the
+    same link set the course's `task1_roster_links.py` printed. The site renders the same
+    :func:`html_view` with its theme's ``partials/roster.html`` (a test keeps the two alike).
+    """
+    view = html_view(result, labels)
+    parts = ['<div class="roster">', f'<p class="roster-summary">{escape(view["summary"])}</p>']
+    for group in view["groups"]:
         parts.append(
-            f'<p class="roster-group-links">{_link(g_repo, group.name + " " + lb["repo"])} | '
-            f"{_link(g_site, group.name + ' ' + lb['site'])} "
-            f'<span class="roster-count">({escape(count)})</span></p>'
+            f'<section class="roster-group" id="group-{escape(group["slug"], quote=True)}">'
+        )
+        parts.append(f"<h3>{escape(group['name'], quote=True)}</h3>")
+        parts.append(
+            f'<p class="roster-group-links">{_link(group["repo"]["url"], group["repo"]["text"])} | '
+            f"{_link(group['site']['url'], group['site']['text'])} "
+            f'<span class="roster-count">({escape(group["count"])})</span></p>'
         )
         parts.append('<ul class="roster-members">')
-        for m in group.members:
-            parts.append(_member_html(result, group.leader, m, labels))
+        for m in group["members"]:
+            parts.append(_member_html(m, view["leader"]))
         parts.append("</ul>")
         parts.append("</section>")
     parts.append("</div>")

@@ -15,7 +15,7 @@ from typing import Any
 
 from located.diagnostics import WHOLE_FILE, Diagnostic, LocatedError, Severity, printable, quoted
 
-from .links import repo_url, site_url
+from .repo_links import repo_url, site_url
 
 __all__ = [
     "WHOLE_FILE",

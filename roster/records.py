@@ -14,8 +14,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from .links import is_safe
 from .model import Diagnostic, Severity, quoted
+from .repo_links import is_safe
 
 ID_RE = re.compile(r"[A-Za-z0-9]*[0-9][A-Za-z0-9]*")
 ID_MAX_LEN = 32

@@ -13,9 +13,9 @@ import re
 import unicodedata
 from collections import Counter
 
-from .links import github_username_problem, unsafe_reason
 from .model import quoted
 from .records import Collector, RawGroup, RawMember, is_student_id
+from .repo_links import github_username_problem, unsafe_reason
 
 NAME_EXTRA_CHARS = " _-.+()"
 

@@ -125,6 +125,7 @@ def _list(verbosity: int = 0) -> int:
 
 def _render(args: argparse.Namespace, prog: str) -> int:
     from sims.clips import ClipSpec, render_clips
+    from sims.render import fallback_note
     from sims.scenarios import list_scenarios
 
     known = [s.name for s in list_scenarios()]
@@ -172,6 +173,9 @@ def _render(args: argparse.Namespace, prog: str) -> int:
             failed += 1
             kept = f" (kept the previous clip in {target}/)" if r.stale else ""
             print(f"FAILED  {r.name}: {r.error}{kept}")
+    note = fallback_note(r.fallback for r in results)
+    if note and args.verbosity >= 0:
+        print(f"{prog}: {note}", file=sys.stderr)
     return 1 if failed else 0
 
 

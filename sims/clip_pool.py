@@ -53,7 +53,7 @@ class Worker:
 
 def worker_env() -> dict[str, str]:
     """The parent's import path, so registered source modules import in the worker too."""
-    from sims.cache import ROOT_DIR
+    from sims.clip_cache import ROOT_DIR
 
     env = dict(os.environ)
     paths = [str(ROOT_DIR)] + [p for p in sys.path if p and os.path.isdir(p)]

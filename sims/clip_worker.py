@@ -2,7 +2,7 @@
 
 1. **simulate** runs the clip's source in a World without a renderer (physics only, fast),
    writes the data files (CSV, JSON, SVG path) and a *state tape*: for every video frame, the
-   pose of every body and the position of every joint (``states.npz``).
+   pose of every body and the position of every joint (``states.npz``, sims/state_tape.py).
 2. **render** rebuilds the scene in a World with the renderer, and for one frame range sets
    each recorded state and draws it (``frames-NNNNNN.rgb``, raw RGB). Ranges are independent,
    so one long clip keeps every core busy; a range never depends on what its process drew
@@ -30,12 +30,12 @@ from typing import Any
 
 import numpy as np
 
-from sims.cache import FILES, META
+from sims.clip_cache import FILES, META
 from sims.plot import path_svg
-from sims.quiet import pybullet as p
 from sims.recording import RecordingTimeout, frame_count, record
 from sims.render import requested_renderer
 from sims.sources import load_plan_function
+from sims.state_tape import SceneChanged, apply_state, capture_state, covers, layout_of
 from sims.video import WebmWriter, write_png
 from sims.world import World
 
@@ -43,65 +43,14 @@ STATES = "states.npz"
 Progress = Callable[[int], None]
 
 
-class SceneChanged(RuntimeError):
-    """The set of bodies changed during the run, so recorded states cannot be replayed."""
-
-
 def _label(spec: dict[str, Any]) -> str:
     return f"{spec.get('kind', 'scenario')} {spec.get('label') or spec['scenario']!r}"
-
-
-# -- state tape ------------------------------------------------------------------------------
-def _layout(world: World) -> list[tuple[int, tuple[int, ...]]]:
-    """Every body and its movable joints, in id order: what a state vector holds."""
-    c = world.client_id
-    out = []
-    for i in range(p.getNumBodies(physicsClientId=c)):
-        body = p.getBodyUniqueId(i, physicsClientId=c)
-        joints = tuple(
-            j
-            for j in range(p.getNumJoints(body, physicsClientId=c))
-            if p.getJointInfo(body, j, physicsClientId=c)[2] != p.JOINT_FIXED
-        )
-        out.append((body, joints))
-    return out
-
-
-def _covers(world: World, layout: list[tuple[int, tuple[int, ...]]]) -> bool:
-    """Does ``world`` hold every body of ``layout`` with the same joints? Extra bodies are
-    allowed: a scene file's visual-only bodies, which ``World.render`` puts on their links."""
-    have = dict(_layout(world))
-    return all(have.get(body) == joints for body, joints in layout)
-
-
-def capture_state(world: World, layout: list[tuple[int, tuple[int, ...]]]) -> list[float]:
-    c = world.client_id
-    values: list[float] = []
-    for body, joints in layout:
-        pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=c)
-        values += [*pos, *orn]
-        if joints:
-            values += [s[0] for s in p.getJointStates(body, joints, physicsClientId=c)]
-    return values
-
-
-def apply_state(world: World, layout: list[tuple[int, tuple[int, ...]]], state: np.ndarray) -> None:
-    c = world.client_id
-    i = 0
-    for body, joints in layout:
-        p.resetBasePositionAndOrientation(
-            body, state[i : i + 3].tolist(), state[i + 3 : i + 7].tolist(), physicsClientId=c
-        )
-        i += 7
-        for j in joints:
-            p.resetJointState(body, j, float(state[i]), physicsClientId=c)
-            i += 1
 
 
 # -- phase 1: simulate -----------------------------------------------------------------------
 def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
     """Run the source; write data files and the state tape into ``out_dir``."""
-    from sims.cache import portable_params
+    from sims.clip_cache import portable_params
     from sims.clip_spec import ClipSpec
 
     spec = ClipSpec(**job["spec"])
@@ -114,8 +63,8 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
 
     def on_frame(world: World) -> None:
         if "layout" not in seen:
-            seen["layout"] = _layout(world)
-        elif world.steps < seen["steps"] and not _covers(world, seen["layout"]):  # a reset
+            seen["layout"] = layout_of(world)
+        elif world.steps < seen["steps"] and not covers(world, seen["layout"]):  # a reset
             raise SceneChanged(f"the scene's bodies changed at frame {len(states)}")
         seen["steps"] = world.steps
         states.append(capture_state(world, seen["layout"]))
@@ -183,7 +132,7 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
 
 
 def _portable(path: str) -> str:
-    from sims.cache import display_path
+    from sims.clip_cache import display_path
 
     return display_path(path)
 
@@ -244,7 +193,7 @@ def render_range(
 
     def make() -> World:
         world = World(setup["scene"], seed=setup["seed"], render_with=renderer, **setup["options"])
-        if not _covers(world, layout):
+        if not covers(world, layout):
             world.close()
             raise SceneChanged("the rebuilt scene does not match the recorded one")
         return world
@@ -279,7 +228,11 @@ def render_range(
                 f.write(np.ascontiguousarray(image).tobytes())
                 if progress is not None:
                     progress(n)
-        return {"renderer": world.renderer, "frames": len(states)}
+        return {
+            "renderer": world.renderer,
+            "frames": len(states),
+            "fallback": world.renderer_fallback,
+        }
     finally:
         if worlds is None:
             cache.close()
@@ -326,20 +279,26 @@ def range_starts(total: int, size: int) -> list[int]:
 RANGE_FRAMES = 60  # frames per render job: ~1 s of EGL work, small enough to share out
 
 
-def render_job(job: dict[str, Any]) -> dict[str, Any]:
-    """All three phases in this process; returns the clip's meta (as the workers would)."""
+def render_job(job: dict[str, Any]) -> tuple[dict[str, Any], str | None]:
+    """All three phases in this process: the clip's meta (as the workers would write it) and
+    why EGL fell back (None: it did not; see ``sims.render.fallback_note``)."""
     meta = simulate(job)
     starts = range_starts(meta["frames"], RANGE_FRAMES)
     worlds = WorldCache()
     renderers = set()
+    fallbacks = set()
     try:
         for start in starts:
             stop = min(start + RANGE_FRAMES, meta["frames"])
             part = {**job, "start": start, "stop": stop, "follow": meta["follow"]}
-            renderers.add(render_range(part, worlds=worlds)["renderer"])
+            drawn = render_range(part, worlds=worlds)
+            renderers.add(drawn["renderer"])
+            fallbacks.add(drawn["fallback"])
     finally:
         worlds.close()
-    return encode({**job, "meta": meta, "starts": starts, "renderer": "+".join(sorted(renderers))})
+    renderer = "+".join(sorted(renderers))
+    meta = encode({**job, "meta": meta, "starts": starts, "renderer": renderer})
+    return meta, "; ".join(sorted(r for r in fallbacks if r)) or None
 
 
 # -- the worker process ------------------------------------------------------------------------

@@ -31,7 +31,7 @@ class RecordingPlan:
     """Everything needed to key, run and describe one clip; built in parent and worker alike.
 
     ``hash_files`` are the files whose bytes identify this source's behaviour (the scenario
-    file, a course script...); the engine's own files are added by sims.cache.
+    file, a course script...); the engine's own files are added by sims.clip_cache.
     ``drive(world, record)`` runs inside a started Recorder and may simply return early.
     """
 

@@ -6,6 +6,11 @@ asked for (``World(render_with="egl"|"auto")``; the clip worker passes ``SIMS_RE
 failure (no plugin, no EGL display, a blank first frame) falls back to TinyRenderer, and
 ``Renderer.name`` / ``World.renderer`` say which one ran. The default
 is decided in ``DEFAULT_RENDERER`` from measurements recorded in docs/sims.md.
+
+Why EGL fell back is decided here alone (``Renderer.fallback_reason``, read as
+``World.renderer_fallback``) and said to the user in one line made by :func:`fallback_note`,
+once per build or recording: TinyRenderer is several times slower, so a user whose clips take
+minutes should learn why.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ from __future__ import annotations
 import os
 import pkgutil
 import weakref
+from collections.abc import Iterable
 from typing import Any, Protocol
 
 import numpy as np
@@ -57,6 +63,15 @@ def requested_renderer() -> str:
     """The renderer asked for by ``SIMS_RENDERER`` ("egl", "tinyrenderer", "auto")."""
     value = os.environ.get("SIMS_RENDERER", DEFAULT_RENDERER).strip().lower()
     return {"tiny": "tinyrenderer", "": DEFAULT_RENDERER}.get(value, value)
+
+
+def fallback_note(reasons: Iterable[str | None]) -> str | None:
+    """The one line telling the user why frames were drawn with TinyRenderer although EGL was
+    asked for (each distinct reason once), or None when nothing fell back."""
+    found = sorted({reason for reason in reasons if reason})
+    if not found:
+        return None
+    return "clips rendered with TinyRenderer (slower): " + "; ".join(found)
 
 
 class Renderer:

@@ -9,42 +9,31 @@ Joint angles are reported and commanded in CoppeliaSim's convention for that joi
 A World holds a bundled scene (``"2w1a"``, ``"cart"``), a scene file (a ``.ttt`` or
 ``.simscene.xml`` path) or a loaded :class:`sims.scene.model.Scene`; ``tree()`` lists every object
 (handle, name, alias, parent, kind) and ``find()`` resolves names and 4.x object paths.
+
+This file is the stepping core (build, step, names, poses); the parts a World is made of live
+beside it: sims/world_tree.py (handles and the object tree), sims/joint_motors.py (joint reads
+and motors, a mixin), sims/proximity.py (sensor rays) and sims/render.py (drawing).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from sims.joint_motors import JointMotors
 from sims.models import build_scene
-from sims.models.common import JointRef, ObjectRef, ProxSensor, RaySensor, SceneModel
+from sims.models.common import JointRef, ObjectRef, ProxSensor, SceneModel
+from sims.proximity import Hit, ProximitySensors
 from sims.quiet import pybullet as p
+from sims.world_tree import TreeEntry, make_tree
 
 Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
 StepHook = Callable[["World"], None]
 GRAVITY = -9.81
-#: A bundled ray fan looks along its link's +x; its CoppeliaSim frame has z there (x_s = y_link,
-#: y_s = z_link, z_s = x_link).
-LEGACY_SENSOR_ORN = (0.5, 0.5, 0.5, 0.5)
-HOLD_FORCE = 1e4  # N or N·m: a kinematic (passive-mode) joint is held where it is set
-
-
-@dataclass(frozen=True)
-class TreeEntry:
-    """One object of the World's scene tree. ``parent`` is the parent's handle (None at the
-    top); ``kind`` is "shape", "joint", "dummy", "proximity_sensor", "vision_sensor"... as in
-    sims.scene.model; ``alias`` is the 4.x alias ("" when the scene has none)."""
-
-    handle: int
-    name: str
-    alias: str
-    parent: int | None
-    kind: str
 
 
 def _scene_label(scene: Any) -> str:
@@ -53,7 +42,7 @@ def _scene_label(scene: Any) -> str:
     return str(getattr(scene, "source", "") or "scene")
 
 
-class World:
+class World(JointMotors):
     """One pybullet physics client in DIRECT mode holding one scene ("2w1a" or "cart")."""
 
     def __init__(
@@ -111,11 +100,9 @@ class World:
             self.model = build(self.source, c, self.seed, **self.scene_options)
         self._objects: dict[str, ObjectRef] = {o.name: o for o in self.model.objects}
         self._joints: dict[str, JointRef] = {j.name: j for j in self.model.joints}
-        self._sensors: dict[str, ProxSensor] = {s.name: s for s in self.model.prox}
-        for legacy in self.model.sensors:
-            self._sensors[legacy.name] = _from_fan(legacy)
-        self._ray_ends: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # sensor frame, per sensor
-        self._tree = self._make_tree()
+        self._proximity = ProximitySensors(self, self.model)
+        self._sensors: dict[str, ProxSensor] = self._proximity.by_name
+        self._tree = make_tree(self.model, c)
         self._names = [e.name for e in self._tree]
         self._handles = {e.name: e.handle for e in self._tree}  # 0 means "not found"
         self._inertial: dict[int, Pose] = {}
@@ -183,48 +170,6 @@ class World:
         return lambda: self._hooks.remove(hook) if hook in self._hooks else None
 
     # -- names -------------------------------------------------------------------------------
-    def _make_tree(self) -> list[TreeEntry]:
-        """Handle = position + 1. Bundled scenes: objects, joints, then sensors, their parents
-        following the pybullet link chain (a link's object under the joint that moves it)."""
-        nodes = self.model.tree
-        if nodes:
-            index = {n.name: i + 1 for i, n in enumerate(nodes)}
-            return [
-                TreeEntry(i + 1, n.name, n.alias, index.get(n.parent or ""), n.kind)
-                for i, n in enumerate(nodes)
-            ]
-        m = self.model
-        kinds = [(o.name, "shape") for o in m.objects] + [(j.name, "joint") for j in m.joints]
-        kinds += [(s.name, "proximity_sensor") for s in m.sensors]
-        index = {name: i + 1 for i, (name, _) in enumerate(kinds)}
-        at_link = {(o.body, o.link): o.name for o in m.objects}
-        joint_at = {(j.body, j.index): j.name for j in m.joints}
-
-        def object_at(body: int, link: int) -> str | None:
-            while (body, link) not in at_link and link >= 0:
-                link = p.getJointInfo(body, link, physicsClientId=self._cid)[16]
-            return at_link.get((body, link))
-
-        def parent_link(body: int, link: int) -> int:
-            return p.getJointInfo(body, link, physicsClientId=self._cid)[16]
-
-        parents: dict[str, str | None] = {}
-        for o in m.objects:
-            if o.link < 0:
-                parents[o.name] = None
-            else:
-                parents[o.name] = joint_at.get((o.body, o.link)) or object_at(
-                    o.body, parent_link(o.body, o.link)
-                )
-        for j in m.joints:
-            parents[j.name] = object_at(j.body, parent_link(j.body, j.index))
-        for sensor in m.sensors:
-            parents[sensor.name] = object_at(sensor.body, sensor.link)
-        return [
-            TreeEntry(index[name], name, "", index.get(parents[name] or ""), kind)
-            for name, kind in kinds
-        ]
-
     def tree(self) -> list[TreeEntry]:
         """Every object of the scene, in handle order."""
         return list(self._tree)
@@ -326,193 +271,16 @@ class World:
         fy = m[3] * ax[0] + m[4] * ax[1] + m[5] * ax[2]
         return math.atan2(fy, fx)
 
-    # -- joints ------------------------------------------------------------------------------
-    def joint_position(self, handle: int | str) -> float:
-        j = self._joint(handle)
-        if j.kind == "spherical":
-            return 0.0
-        q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
-        return j.zero + j.sign * q
-
-    def joint_velocity(self, handle: int | str) -> float:
-        j = self._joint(handle)
-        if j.kind == "spherical":
-            return 0.0
-        return j.sign * p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
-
-    def set_joint_target_position(self, handle: int | str, rad: float) -> None:
-        """Position control, clamped to the joint's CoppeliaSim range. A spring-damper joint
-        takes the target as its spring's rest position."""
-        j = self._joint(handle)
-        if j.kind == "spherical":
-            return
-        if j.lower is not None and j.upper is not None:
-            rad = min(max(rad, j.lower), j.upper)
-        if j.mode == "spring":
-            self._springs[j.name] = rad
-            return
-        self._commands[j.name] = ("position", rad)
-        kw: dict[str, float] = {}
-        if j.max_velocity is not None:
-            kw["maxVelocity"] = j.max_velocity
-        p.setJointMotorControl2(
-            j.body,
-            j.index,
-            p.POSITION_CONTROL,
-            targetPosition=(rad - j.zero) * j.sign,
-            force=HOLD_FORCE if j.mode == "hold" else j.max_force,
-            positionGain=j.position_gain,
-            velocityGain=j.velocity_gain,
-            physicsClientId=self._cid,
-            **kw,
-        )
-
-    def set_joint_target_velocity(self, handle: int | str, rad_s: float) -> None:
-        """Velocity control with the joint's max torque (CoppeliaSim: motor on, position off).
-
-        On a position-controlled joint (the 2W1A arm) this switches it to velocity control
-        until the next set_joint_target_position; CoppeliaSim would instead keep position
-        control and ignore the velocity. Scripts in the course never do this."""
-        j = self._joint(handle)
-        if j.kind == "spherical":
-            return
-        self._springs.pop(j.name, None)
-        self._commands[j.name] = ("velocity", rad_s)
-        p.setJointMotorControl2(
-            j.body,
-            j.index,
-            p.VELOCITY_CONTROL,
-            targetVelocity=rad_s * j.sign,
-            force=j.max_force,
-            physicsClientId=self._cid,
-        )
-
-    def set_joint_max_force(self, handle: int | str, force: float) -> None:
-        """The motor's force/torque limit (CoppeliaSim's setJointMaxForce); the motor keeps
-        its mode and its last target."""
-        import dataclasses
-
-        j = self._joint(handle)
-        new = dataclasses.replace(j, max_force=force)
-        self._joints[j.name] = new
-        self.model.joints[self.model.joints.index(j)] = new
-        kind, value = self._commands.get(j.name, (None, 0.0))
-        if kind == "velocity":
-            self.set_joint_target_velocity(j.name, value)
-        elif kind == "position":
-            self.set_joint_target_position(j.name, value)
-
-    def set_joint_position(self, handle: int | str, rad: float) -> None:
-        """Put a joint at ``rad`` at once (CoppeliaSim's setJointPosition). A passive-mode
-        joint stays there; a motor keeps its own target."""
-        j = self._joint(handle)
-        if j.kind == "spherical":
-            return
-        p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
-        if j.mode == "hold":
-            self.set_joint_target_position(j.name, rad)
-
-    def _init_motor(self, j: JointRef) -> None:
-        c = self._cid
-        if j.kind == "spherical":  # free, or held where it is (pybullet's default motor off)
-            quat = p.getJointStateMultiDof(j.body, j.index, physicsClientId=c)[0]
-            force = HOLD_FORCE if j.mode == "hold" else 0.0
-            p.setJointMotorControlMultiDof(
-                j.body,
-                j.index,
-                p.POSITION_CONTROL,
-                targetPosition=list(quat),
-                targetVelocity=[0.0, 0.0, 0.0],
-                force=[force] * 3,
-                physicsClientId=c,
-            )
-            return
-        if j.lower is not None and j.upper is not None:
-            a, b = sorted(((j.lower - j.zero) * j.sign, (j.upper - j.zero) * j.sign))
-            p.changeDynamics(
-                j.body, j.index, jointLowerLimit=a, jointUpperLimit=b, physicsClientId=c
-            )
-        if j.mode in ("position", "hold"):
-            target = j.zero if j.initial_target is None else j.initial_target
-            if j.mode == "hold":
-                target = self.joint_position(j.name)
-            self.set_joint_target_position(j.name, target)
-        elif j.mode == "velocity":
-            self.set_joint_target_velocity(j.name, j.initial_velocity)
-        else:  # free or spring: pybullet's default velocity motor replaced by a friction torque
-            p.setJointMotorControl2(
-                j.body,
-                j.index,
-                p.VELOCITY_CONTROL,
-                targetVelocity=0.0,
-                force=j.friction_torque,
-                physicsClientId=c,
-            )
-            if j.mode == "spring":
-                self._springs[j.name] = j.zero if j.initial_target is None else j.initial_target
-
-    def _apply_springs(self) -> None:
-        """Spring-damper joints: torque = -k (q - rest) - c dq/dt, capped at the max force."""
-        for name, rest in self._springs.items():
-            j = self._joints[name]
-            q, dq = p.getJointState(j.body, j.index, physicsClientId=self._cid)[:2]
-            error = rest - (j.zero + j.sign * q)
-            torque = j.spring_k * error - j.spring_c * j.sign * dq
-            torque = max(-j.max_force, min(j.max_force, torque)) if j.max_force > 0 else torque
-            p.setJointMotorControl2(
-                j.body,
-                j.index,
-                p.TORQUE_CONTROL,
-                force=torque * j.sign,
-                physicsClientId=self._cid,
-            )
-
     # -- sensors and contacts ----------------------------------------------------------------
-    def sensor_hits(self, name: str) -> list[tuple[float, tuple, tuple, int, int] | None]:
+    def sensor_hits(self, name: str) -> list[Hit | None]:
         """Each ray of a proximity sensor: None, or (distance from the sensor origin, point and
         normal in the sensor frame, body, link). The sensor frame's z is its sensing axis."""
-        out: list[tuple[float, tuple, tuple, int, int] | None] = []
-        origin, rot, hits = self._cast(name)
-        for h in hits:
-            out.append(None if h[0] < 0 else _hit_in_frame(h, origin, rot))
-        return out
+        return self._proximity.hits(name)
 
-    def nearest_hit(self, name: str) -> tuple[float, tuple, tuple, int, int] | None:
+    def nearest_hit(self, name: str) -> Hit | None:
         """The nearest of ``sensor_hits`` (the first of equals), what a proximity sensor
-        reports, without bringing every other ray's hit into the sensor frame."""
-        origin, rot, hits = self._cast(name)
-        ox, oy, oz = origin
-        best = None
-        best_d2 = math.inf
-        for h in hits:
-            if h[0] < 0:
-                continue
-            x, y, z = h[3]
-            d2 = (x - ox) * (x - ox) + (y - oy) * (y - oy) + (z - oz) * (z - oz)
-            if d2 < best_d2:
-                best, best_d2 = h, d2
-        return None if best is None else _hit_in_frame(best, origin, rot)
-
-    def _cast(self, name: str) -> tuple[tuple, tuple, Any]:
-        """Cast a sensor's rays in one batch: (origin, row-major rotation, pybullet hits).
-
-        The rays go into the world with one matrix product per read rather than two pybullet
-        transforms per ray: scripts poll their sonars every step (bench/lua_bench.py). This is
-        also more exact: pybullet's multiplyTransforms returns single-precision results.
-        """
-        name = self._lookup(name)
-        ends = self._ray_ends.get(name)
-        if ends is None:
-            rays = self._sensors[name].rays
-            ends = (np.array([a for a, _ in rays], float), np.array([b for _, b in rays], float))
-            self._ray_ends[name] = ends
-        origin, orn = self.object_pose(name)
-        rot = p.getMatrixFromQuaternion(orn)  # double precision, row-major
-        m = np.array(rot, float).reshape(3, 3).T
-        o = np.array(origin, float)
-        starts = (ends[0] @ m + o).tolist()
-        tips = (ends[1] @ m + o).tolist()
-        return origin, rot, p.rayTestBatch(starts, tips, physicsClientId=self._cid)
+        reports (sims/proximity.py casts the rays)."""
+        return self._proximity.nearest(name)
 
     def proximity_scan(self, name: str) -> list[float | None]:
         """Distances (m) along each ray of a proximity sensor (a bundled fan: left to right);
@@ -565,22 +333,7 @@ class World:
         """Which renderer ran (or will run): "egl" or "tinyrenderer"."""
         return "tinyrenderer" if self._renderer is None else self._renderer.name
 
-
-def _hit_in_frame(h: Any, origin: tuple, rot: tuple) -> tuple[float, tuple, tuple, int, int]:
-    """A pybullet ray hit as (distance from the sensor origin, point and normal in the sensor
-    frame, body, link); ``rot`` is the sensor's row-major rotation (its transpose maps back)."""
-    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
-    dx, dy, dz = h[3][0] - origin[0], h[3][1] - origin[1], h[3][2] - origin[2]
-    nx, ny, nz = h[4]
-    point = (r0 * dx + r3 * dy + r6 * dz, r1 * dx + r4 * dy + r7 * dz, r2 * dx + r5 * dy + r8 * dz)
-    normal = (r0 * nx + r3 * ny + r6 * nz, r1 * nx + r4 * ny + r7 * nz, r2 * nx + r5 * ny + r8 * nz)
-    return math.sqrt(dx * dx + dy * dy + dz * dz), point, normal, h[0], h[1]
-
-
-def _from_fan(s: RaySensor) -> ProxSensor:
-    """A bundled ray fan as a sensor frame with z along the link's +x, rays in that frame."""
-    rays = []
-    for d in s.rays():  # link frame (x forward) -> sensor frame (z forward)
-        tip = (d[1] * s.max_range, d[2] * s.max_range, d[0] * s.max_range)
-        rays.append(((0.0, 0.0, 0.0), tip))
-    return ProxSensor(s.name, s.body, s.link, s.origin, LEGACY_SENSOR_ORN, tuple(rays))
+    @property
+    def renderer_fallback(self) -> str | None:
+        """Why EGL was asked for and TinyRenderer runs instead (None: no fallback)."""
+        return None if self._renderer is None else self._renderer.fallback_reason

@@ -7,39 +7,31 @@ changes) -> site-wide files -> check -> publish atomically -> save the cache.
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import os
 import shutil
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 from sitegen import __version__
+from sitegen.build_inputs import Inputs, code_digest
 from sitegen.cache import Cache, Fragments, State
 from sitegen.config import Config, load_config
-from sitegen.content import SourcePage, scan
+from sitegen.content import SourcePage, SourceTree, scan
 from sitegen.errors import BuildError, Diagnostic, Diagnostics
-from sitegen.fragment_store import FragmentStore, Renders
-from sitegen.i18n import strings
-from sitegen.integrations import Built, Integration
-from sitegen.links import LinkTargets
-from sitegen.nav import PageInput, build_site, full_tree
-from sitegen.output import OutFile, from_bytes, output_lock, publish
+from sitegen.integrations import Integration
 from sitegen.output import intact as output_intact
-from sitegen.output import unchanged as output_unchanged
-from sitegen.page_jobs import PagePhase, PageResult, links_digest
-from sitegen.pages import (
-    site_context,
-    sitemap_xml,
-    special_pages,
-)
+from sitegen.output import output_lock, publish
 from sitegen.plugins import make_integrations
-from sitegen.search import write_search_script
+from sitegen.source_stats import stat_walk
 from sitegen.theme import Theme
-from sitegen.workers import run_chunks
+
+# Only what a no-op build needs is imported above; the Markdown, template and worker
+# machinery is imported by the stages that use it (a no-op build is mostly start-up time).
 
 
 @dataclass
@@ -97,7 +89,9 @@ def resolve_paths(opts: BuildOptions) -> tuple[Config, Path, Path, Path]:
     return config, content, output, cache_dir.resolve()
 
 
-def to_input(page: SourcePage) -> PageInput:
+def to_input(page: SourcePage):
+    from sitegen.nav import PageInput
+
     return PageInput(
         page.rel,
         page.meta,
@@ -115,146 +109,82 @@ def build(opts: BuildOptions) -> BuildReport:
 
     One build per output at a time: the output lock is held for the whole build (cache
     included); a second build raises BuildError at once (sitegen.output.output_lock)."""
-    with output_lock(resolve_paths(opts)[2]):
-        return _build(opts)
+    paths = resolve_paths(opts)
+    with output_lock(paths[2]):
+        return _build(opts, paths)
 
 
-def _build(opts: BuildOptions) -> BuildReport:
+def _build(opts: BuildOptions, paths: tuple[Config, Path, Path, Path]) -> BuildReport:
+    """The stages, each a function over plain data: scan -> (up to date? stop) -> site tree
+    (integrations' inputs included) -> Markdown -> pages -> site-wide files -> check ->
+    publish -> save the cache."""
     started = time.perf_counter()
-    config, content_root, output, cache_dir = resolve_paths(opts)
-    report = BuildReport(output=output)
     diags = Diagnostics()
-    cache = Cache(cache_dir)
-    state = State() if opts.clean else cache.load_state()
-
-    tree = scan(content_root, diags, exclude={output, cache_dir})
-    theme = Theme(
-        (config.root / config.templates_dir)
-        if config.templates_dir
-        else (config.root / "templates" if config.source_file else None)
-    )
-    theme_digest = theme.digest()
-    integrations = make_integrations(config, cache_dir, opts)
-    fingerprint = _fingerprint(config, tree, theme_digest, integrations)
-    if (
-        not opts.clean
-        and state.fingerprint == fingerprint
-        and state.output == str(output)
-        and not diags.items
-        and output_intact(output, state.manifest)
-    ):
+    inp = read_inputs(opts, paths, diags)
+    report = BuildReport(output=paths[2])
+    if inp is not None and up_to_date(opts, inp, diags):
+        if inp.tree.stats_trusted and inp.tree.stats != inp.state.sources:
+            # read in full because a file was new the last time: remember its stat key now,
+            # so the next no-op needs no reading
+            inp.state.sources, inp.state.rest = inp.tree.stats, inp.rest
+            Cache(inp.cache_dir).save_state(inp.state)
+        inp = None
+    if inp is None:
         report.up_to_date = True
         report.seconds = time.perf_counter() - started
         return report
 
-    t = strings(config.language)
-    _template_cache(theme, cache_dir)
-    inputs = [to_input(p) for p in tree.pages]
-    files: dict[str, OutFile] = {}
-    handlers: dict = {}
-    for integ in integrations:
-        integ.prepare(diags, state)
-        inputs = integ.adjust(inputs, diags)  # slide separators, blog posts' order
-        inputs.extend(integ.pages(t))
-        handlers.update(integ.directives())
-    _check_collisions(inputs, diags)
-    site = build_site(inputs, home_title=t["home"])
+    from sitegen.fragment_store import FragmentStore
+    from sitegen.i18n import strings
+    from sitegen.links import LinkTargets
+    from sitegen.markdown_stage import render_markdown
+    from sitegen.page_jobs import links_digest, render_pages
+    from sitegen.pages import site_context
+    from sitegen.site_files import make_site_files
+
+    t = strings(inp.config.language)
+    _template_cache(inp.theme, inp.cache_dir)
+    site, handlers = site_tree(inp, t, diags)
+    cache = Cache(inp.cache_dir)
     frag = Fragments() if opts.clean else cache.load_fragments()
-    store = FragmentStore(cache_dir / "fragments.sqlite")
+    store = FragmentStore(inp.cache_dir / "fragments.sqlite")
     if opts.clean:
         store.clear()
-    renders, sources, summaries = _render_markdown(site, frag, store, report)
-    assets = {a.rel for a in tree.assets}
-    targets = LinkTargets.build(site, assets, {url: set(s[0]) for url, s in summaries.items()})
-
-    base = site_context(config, t)
-    salt = links_digest(targets) + "".join(integ.fingerprint() for integ in integrations)
-    scratch = output.parent / f".{output.name}.sitegen-building-{os.getpid()}-pages"
+    md = render_markdown(site, frag, store)
+    report.markdown_rendered = md.converted
+    assets = {a.rel for a in inp.tree.assets}
+    targets = LinkTargets.build(site, assets, {url: set(s[0]) for url, s in md.summaries.items()})
+    base = site_context(inp.config, t)
+    salt = links_digest(targets) + "".join(integ.fingerprint() for integ in inp.integrations)
+    scratch = inp.output.parent / f".{inp.output.name}.sitegen-building-{os.getpid()}-pages"
     shutil.rmtree(scratch, ignore_errors=True)
     scratch.mkdir(parents=True)
     try:
-        phase = PagePhase(
-            site,
-            renders,
-            sources,
-            {url: s[1] for url, s in summaries.items()},
-            targets,
-            handlers,
-            theme,
-            theme_digest,
-            base,
-            content_root.name,
-            output,
-            state.manifest,
-            frag.pages,
-            scratch,
-            salt,
+        phase, files, new_pages = render_pages(
+            inp, site, md, targets, handlers, base, frag, salt, scratch, diags, report
         )
-        results: dict[str, PageResult] = {}
-        todo: list[tuple] = []
-        for node in site.order:
-            key = phase.input_key(node)
-            reused = phase.reusable(node, key)
-            if reused is None:
-                todo.append((node, key))
-            else:
-                results[node.url] = reused
-        for result in run_chunks(todo, phase.run):
-            results[result.url] = result
-        for node in site.order:
-            result = results[node.url]
-            diags.extend(result.diagnostics)
-            if result.rendered:
-                files[node.url] = OutFile(result.digest, source=scratch / node.url, move=True)
-                report.pages_rendered += 1
-            else:
-                files[node.url] = OutFile(result.digest, source=output / node.url)
-        new_pages = {
-            url: (r.input_key, r.context_key, r.digest, tuple(r.diagnostics))
-            for url, r in results.items()
-        }
-        report.pages = len(site.order)
-        built = Built(site, renders, targets, handlers, theme, base, phase.menus, content_root.name)
-        for integ in integrations:  # slide decks, blog index pages, tags, archive, feed
-            for rel, data in integ.site_files(built, diags).items():
-                if rel in files:
-                    diags.error(rel, None, "", "a generated file has the same path as a page")
-                files[rel] = from_bytes(data)
-        reuse = SiteWide(
-            output, state.manifest, frag.site_wide, f"{theme_digest}\0{_code_digest()}"
+        reuse = make_site_files(
+            inp, site, md, targets, handlers, base, phase.menus, frag, files, diags, scratch
         )
-        _finish(
-            config,
-            tree,
-            content_root.name,
-            theme,
-            site,
-            base,
-            phase.menus,
-            renders,
-            files,
-            diags,
-            reuse,
-            scratch,
-        )
-        report.diagnostics = sorted(diags.items, key=lambda d: (d.file, d.line or 0, d.message))
-        if diags.errors or (opts.strict and diags.warnings):
-            why = "errors" if diags.errors else "warnings (--strict)"
-            raise BuildError(
-                f"build failed with {why}; the previous site was left as it was",
-                report.diagnostics,
-            )
-        for integ in integrations:
-            for rel, f in integ.files().items():
-                files[rel] = f
-            report.notes.extend(integ.notes(state))
-        manifest, report.changed = publish(output, files, state.manifest)
+        report.diagnostics = check(opts, diags)
+        for integ in inp.integrations:
+            files.update(integ.files())
+            report.notes.extend(integ.notes(inp.state))
+        manifest, report.changed = publish(inp.output, files, inp.state.manifest)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    new_state = State(fingerprint if not diags.warnings else "", str(output), manifest)
-    for integ in integrations:
+    clean = not diags.warnings
+    new_state = State(
+        inp.fingerprint if clean else "",
+        str(inp.output),
+        manifest,
+        sources=inp.tree.stats if clean and inp.tree.stats_trusted else {},
+        rest=inp.rest,
+    )
+    for integ in inp.integrations:
         integ.save(new_state)
     cache.save_state(new_state)
+    cache.save_sources(inp.content_root.resolve(), inp.tree.records)
     frag.pages = new_pages
     frag.site_wide = reuse.new
     cache.save_fragments(frag)
@@ -264,73 +194,78 @@ def _build(opts: BuildOptions) -> BuildReport:
     return report
 
 
-@dataclass
-class SiteWide:
-    """Generated files that depend on the whole site (Site Map, search page, theme assets):
-    made again only when their inputs' hash changed or the output file was touched, so a
-    one-page edit does not re-render a 1000-entry Site Map."""
-
-    output: Path
-    manifest: dict[str, list]
-    old: dict[str, tuple[str, dict[str, str]]]
-    salt: str  # theme digest and library versions
-    new: dict[str, tuple[str, dict[str, str]]] = field(default_factory=dict)
-
-    def add(self, files: dict[str, OutFile], name: str, inputs: str, make) -> None:
-        key = hashlib.sha256(f"{self.salt}\0{inputs}".encode()).hexdigest()
-        old = self.old.get(name)
-        if (
-            old
-            and old[0] == key
-            and all(
-                output_unchanged(self.output, rel, self.manifest, digest)
-                for rel, digest in old[1].items()
-            )
-        ):
-            for rel, digest in old[1].items():
-                files[rel] = OutFile(digest, source=self.output / rel)
-            self.new[name] = old
-            return
-        made = {rel: from_bytes(data) for rel, data in make().items()}
-        files.update(made)
-        self.new[name] = (key, {rel: f.digest for rel, f in made.items()})
-
-
-def _finish(
-    config: Config,
-    tree,
-    content_name: str,
-    theme: Theme,
-    site,
-    base: dict,
-    menus,
-    renders: dict,
-    files: dict[str, OutFile],
-    diags: Diagnostics,
-    reuse: SiteWide,
-    scratch: Path,
-) -> None:
-    """The site-wide files: special pages, theme assets, search index, sitemap, copied assets."""
-    reuse.add(
-        files,
-        "pages",
-        repr((base, full_tree(site))),
-        lambda: special_pages(theme, site, base, menus),
+def read_inputs(opts: BuildOptions, paths: tuple, diags: Diagnostics) -> Inputs | None:
+    """Stage 1: the config, the theme, the integrations and every source file (hashed);
+    None when the build is a no-op known without reading the sources (their stat keys are
+    those of the last build, whose output is intact)."""
+    config, content_root, output, cache_dir = paths
+    state = State() if opts.clean else Cache(cache_dir).load_state()
+    theme = Theme(
+        (config.root / config.templates_dir)
+        if config.templates_dir
+        else (config.root / "templates" if config.source_file else None)
     )
-    reuse.add(files, "assets", "", theme.assets)
-    index = scratch / "assets" / "search-index.js"
-    index.parent.mkdir(parents=True, exist_ok=True)
-    digest = write_search_script(index, _search_pages(site, renders))
-    files["assets/search-index.js"] = OutFile(digest, source=index, move=True)
-    files[".nojekyll"] = from_bytes(b"")
-    if config.base_url:
-        files["sitemap.xml"] = from_bytes(sitemap_xml(site, config.base_url))
-    for asset in tree.assets:
-        rel = str(asset.rel)
-        if rel in files:
-            diags.error(f"{content_name}/{rel}", None, "", f"clashes with a generated file '{rel}'")
-            continue
-        files[rel] = OutFile(asset.digest, source=asset.path)
+    theme_digest = theme.digest()
+    integrations = make_integrations(config, cache_dir, opts)
+    rest = _rest_digest(config, theme_digest, integrations)
+    if (
+        not opts.clean
+        and _sources_unchanged(state, rest, paths)
+        and output_intact(output, state.manifest)
+    ):
+        return None
+    known = {} if opts.clean else Cache(cache_dir).load_sources(content_root.resolve())
+    tree = scan(content_root, diags, exclude={output, cache_dir}, known=known)
+    return Inputs(
+        config,
+        content_root,
+        output,
+        cache_dir,
+        state,
+        tree,
+        theme,
+        theme_digest,
+        integrations,
+        rest,
+        _fingerprint(rest, tree),
+    )
+
+
+def up_to_date(opts: BuildOptions, inp: Inputs, diags: Diagnostics) -> bool:
+    """A no-op: same inputs as the last build, which reported nothing, and its output intact."""
+    return (
+        not opts.clean
+        and inp.state.fingerprint == inp.fingerprint
+        and inp.state.output == str(inp.output)
+        and not diags.items
+        and output_intact(inp.output, inp.state.manifest)
+    )
+
+
+def site_tree(inp: Inputs, t: dict, diags: Diagnostics) -> tuple[Any, dict]:
+    """Stage 2: the page inputs (content pages plus the integrations' own) -> the site tree;
+    returns (site, directive handlers)."""
+    from sitegen.nav import build_site
+
+    inputs = [to_input(p) for p in inp.tree.pages]
+    handlers: dict = {}
+    for integ in inp.integrations:
+        integ.prepare(diags, inp.state)
+        inputs = integ.adjust(inputs, diags)  # slide separators, blog posts' order
+        inputs.extend(integ.pages(t))
+        handlers.update(integ.directives())
+    _check_collisions(inputs, diags)
+    return build_site(inputs, home_title=t["home"]), handlers
+
+
+def check(opts: BuildOptions, diags: Diagnostics) -> list[Diagnostic]:
+    """Stage 6: the diagnostics, sorted; raise BuildError (nothing published) on errors, or
+    on warnings with ``--strict``."""
+    found = sorted(diags.items, key=lambda d: (d.file, d.line or 0, d.message))
+    if diags.errors or (opts.strict and diags.warnings):
+        why = "errors" if diags.errors else "warnings (--strict)"
+        raise BuildError(f"build failed with {why}; the previous site was left as it was", found)
+    return found
 
 
 def _template_cache(theme: Theme, cache_dir: Path) -> None:
@@ -345,94 +280,8 @@ def _template_cache(theme: Theme, cache_dir: Path) -> None:
     theme.env.bytecode_cache = jinja2.FileSystemBytecodeCache(str(folder))
 
 
-def _render_markdown(site, frag: Fragments, store: FragmentStore, report: BuildReport):
-    """Markdown -> fragments, reusing the cache for every source whose hash is unchanged; the
-    misses are converted in worker processes when there are many (a cold build), each going
-    to the fragment store as soon as it is made.
-
-    Returns (url -> Rendered as a lazy mapping, url -> source key, url -> (ids, toc))."""
-    from sitegen.markdown_render import RENDER_VERSION, Rendered, plain_text
-
-    held: dict[str, Rendered] = {}
-    sources: dict[str, str] = {}
-    from_store: dict[str, str] = {}
-    summaries: dict[str, tuple] = {}
-    misses: dict[str, tuple[str, str, bool]] = {}  # key -> (key, text, strip first heading)
-    stored = store.keys() if frag.markdown else set()
-    for node in site.order:
-        src = node.source
-        if src is None:  # a folder without index.md: the template lists its children
-            held[node.url] = Rendered("", [], [], "")
-            summaries[node.url] = ([], [])
-            continue
-        if src.body_html is not None:
-            rendered = Rendered(
-                src.body_html, src.toc or [], _ids(src.body_html), plain_text(src.body_html)
-            )
-            held[node.url] = rendered
-            summaries[node.url] = (rendered.ids, rendered.toc)
-            sources[node.url] = hashlib.sha256(src.body_html.encode()).hexdigest()
-            continue
-        key = hashlib.sha256(
-            f"{RENDER_VERSION}\0{node.strip_first_heading}\0{src.text}".encode()
-        ).hexdigest()
-        sources[node.url] = from_store[node.url] = key
-        if key not in frag.markdown or key not in stored:
-            misses.setdefault(key, (key, src.text, node.strip_first_heading))
-
-    def convert(tasks) -> list:
-        made = _convert([(text, strip) for _key, text, strip in tasks])
-        store.put_many((key, r) for (key, _t, _s), r in zip(tasks, made, strict=True))
-        return [(r.ids, r.toc, r.directives) for r in made]
-
-    tasks = list(misses.values())
-    if tasks:
-        _convert([])  # the renderer is made once, here, and inherited by the workers
-    done = run_chunks(tasks, convert, recycle=None)
-    for (key, _t, _s), summary in zip(tasks, done, strict=True):
-        frag.markdown[key] = summary
-    report.markdown_rendered += len(tasks)
-    used = {key: frag.markdown[key] for key in from_store.values()}
-    for url, key in from_store.items():
-        summaries[url] = used[key][:2]
-    frag.markdown = used
-    return Renders(store, from_store, held), sources, summaries
-
-
-def _search_pages(site, renders) -> Iterator[dict]:
-    """Search entries one page at a time (each page's text read from the store on demand)."""
-    for n in site.order:
-        rendered = renders[n.url]
-        yield {
-            "title": n.title,
-            "url": n.url,
-            "path": [a.title for a in n.ancestors()],
-            "text": rendered.text,
-            "toc": rendered.toc,
-        }
-
-
-def _convert(tasks) -> list:
-    """Convert (Markdown, strip first heading) pairs; one renderer per process, reset per page."""
-    global _RENDERER
-    from sitegen.markdown_render import MarkdownRenderer
-
-    if _RENDERER is None:
-        _RENDERER = MarkdownRenderer()
-    return [_RENDERER.render(text, strip) for text, strip in tasks]
-
-
-_RENDERER = None
-
-
-def _ids(html: str) -> list[str]:
-    import re
-
-    return re.findall(r'\sid="([^"]+)"', html)
-
-
-def _check_collisions(inputs: list[PageInput], diags: Diagnostics) -> None:
-    seen: dict[PurePosixPath, PageInput] = {}
+def _check_collisions(inputs: list, diags: Diagnostics) -> None:
+    seen: dict[PurePosixPath, Any] = {}
     for p in inputs:
         if p.rel in seen:
             diags.error(
@@ -441,28 +290,32 @@ def _check_collisions(inputs: list[PageInput], diags: Diagnostics) -> None:
         seen[p.rel] = p
 
 
-def _fingerprint(config: Config, tree, theme_digest: str, integrations: list[Integration]) -> str:
+def _rest_digest(config: Config, theme_digest: str, integrations: list[Integration]) -> str:
+    """Every input of the build but the content files."""
     h = hashlib.sha256()
-    h.update(f"{__version__}\0{config!r}\0{theme_digest}\0{_code_digest()}\0".encode())
-    for p in tree.pages:
-        h.update(f"p\0{p.rel}\0{p.digest}\0".encode())
-    for a in tree.assets:
-        h.update(f"a\0{a.rel}\0{a.digest}\0".encode())
+    h.update(f"{__version__}\0{config!r}\0{theme_digest}\0{code_digest()}\0".encode())
     for integ in integrations:
         h.update(integ.fingerprint().encode())
-    import os
-
     h.update(os.environ.get("SOURCE_DATE_EPOCH", "").encode())
     return h.hexdigest()
 
 
-@functools.cache
-def _code_digest() -> str:
-    """Our own code and the Markdown stack are inputs too: an upgrade must rebuild."""
-    import markdown
-    import pygments
-
-    h = hashlib.sha256(f"{markdown.__version__}\0{pygments.__version__}".encode())
-    for f in sorted(Path(__file__).parent.glob("*.py")):
-        h.update(f.read_bytes())
+def _fingerprint(rest: str, tree: SourceTree) -> str:
+    h = hashlib.sha256(rest.encode())
+    for p in tree.pages:
+        h.update(f"p\0{p.rel}\0{p.digest}\0".encode())
+    for a in tree.assets:
+        h.update(f"a\0{a.rel}\0{a.digest}\0".encode())
     return h.hexdigest()
+
+
+def _sources_unchanged(state: State, rest: str, paths: tuple) -> bool:
+    """The last build was clean and nothing but the content could have changed since; each
+    content file still has the stat key it had when that build read it, and none came or
+    went. Stat keys only: nothing is read (a no-op of 1000 pages in milliseconds)."""
+    return (
+        bool(state.fingerprint and state.sources)
+        and state.rest == rest
+        and state.output == str(paths[2])
+        and stat_walk(paths[1], {paths[2], paths[3]}) == state.sources
+    )

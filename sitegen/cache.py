@@ -1,9 +1,12 @@
-"""The build cache: what the last build made, keyed by content hashes, never by mtimes.
+"""The build cache: what the last build made, keyed by content hashes.
 
-Two files: a small ``state.json`` (input fingerprint and output manifest) that a no-op
-rebuild reads and stops at, and ``fragments.pickle`` (rendered Markdown per source hash and
-the context hash of every page) that a partial rebuild needs. A cache that cannot be read
-(other version, truncated file) is simply ignored: the build is then a cold one.
+``state.json`` (input fingerprint, output manifest, and each source's stat key) is what a
+no-op rebuild reads and stops at; ``sources.pickle`` (each source file's parsed record by
+its stat key), ``fragments.pickle`` (per source hash: ids, table of contents; per page: the
+context hash) and ``fragments.sqlite`` (sitegen.fragment_store) are what a partial rebuild
+needs. A stat key only stands for a hash already taken (sitegen.source_stats). A cache that
+cannot be read (other version, truncated file) is simply ignored: the build is then a cold
+one.
 """
 
 from __future__ import annotations
@@ -26,6 +29,11 @@ class State:
     output: str = ""
     manifest: dict[str, list] = field(default_factory=dict)
     rosters: dict[str, Any] = field(default_factory=dict)
+    #: the no-op check without reading the sources: each source file's stat key when the
+    #: fingerprint was taken (empty: not trusted, read them), and the digest of everything
+    #: else in the fingerprint (config, theme, code, integrations)
+    sources: dict[str, list[int]] = field(default_factory=dict)
+    rest: str = ""
 
 
 @dataclass
@@ -47,7 +55,14 @@ class Cache:
             raw = json.loads((self.dir / "state.json").read_text(encoding="utf-8"))
             if raw.get("format") != FORMAT:
                 return State()
-            return State(raw["fingerprint"], raw["output"], raw["manifest"], raw.get("rosters", {}))
+            return State(
+                raw["fingerprint"],
+                raw["output"],
+                raw["manifest"],
+                raw.get("rosters", {}),
+                raw.get("sources", {}),
+                raw.get("rest", ""),
+            )
         except (OSError, ValueError, KeyError, TypeError):
             return State()
 
@@ -58,6 +73,8 @@ class Cache:
             "output": state.output,
             "manifest": state.manifest,
             "rosters": state.rosters,
+            "sources": state.sources,
+            "rest": state.rest,
         }
         self._write(
             self.dir / "state.json", json.dumps(data, ensure_ascii=False, sort_keys=True).encode()
@@ -72,12 +89,29 @@ class Cache:
             return Fragments()
 
     def save_fragments(self, frag: Fragments) -> None:
-        """Pickled straight to the file: never a second copy of every fragment in memory."""
-        path = self.dir / "fragments.pickle"
+        self._dump(self.dir / "fragments.pickle", frag)
+
+    def load_sources(self, root: Path) -> dict[str, tuple[list[int], Any]]:
+        """The last scan of ``root``: its records (sitegen.content.SourceTree.records), or
+        nothing (another folder: a moved file keeps its stat key but not its path)."""
+        try:
+            with open(self.dir / "sources.pickle", "rb") as fh:
+                fmt, records = pickle.load(fh)
+            if fmt != FORMAT or not isinstance(records, tuple) or records[0] != str(root):
+                return {}
+            return records[1]
+        except (OSError, pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError):
+            return {}
+
+    def save_sources(self, root: Path, records: dict[str, tuple[list[int], Any]]) -> None:
+        self._dump(self.dir / "sources.pickle", (str(root), records))
+
+    def _dump(self, path: Path, value: Any) -> None:
+        """Pickled straight to the file: never a second copy of what it holds in memory."""
         self.dir.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
         with open(tmp, "wb") as fh:
-            pickle.dump((FORMAT, frag), fh, protocol=pickle.HIGHEST_PROTOCOL)
+            pickle.dump((FORMAT, value), fh, protocol=pickle.HIGHEST_PROTOCOL)
         os.replace(tmp, path)
 
     def _write(self, path: Path, data: bytes) -> None:

@@ -187,10 +187,8 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     ck = _Checker(file)
     try:
         node = compose(text, file)
-    except YamlError as exc:
-        raise BuildError(
-            "invalid sitegen.yml", [Diagnostic(file, exc.line, "", exc.message)]
-        ) from None
+    except YamlError as exc:  # a LocatedError: its diagnostic names file, line and column
+        raise BuildError("invalid sitegen.yml", [exc.diagnostic]) from None
     if node is None:
         return Config(root=root, source_file=root / file)
     top = ck.keys(node, ROOT, _TOP)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import time
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
@@ -18,10 +19,10 @@ import yaml
 
 from located import yaml as located_yaml
 from sitegen.errors import Diagnostics
+from sitegen.source_stats import MAX_DEPTH, stat_key
+from sitegen.source_stats import SKIP_DIRS as _SKIP_DIRS
 
 PAGE_SUFFIXES = (".md", ".markdown")
-_SKIP_DIRS = {".git", ".hg", ".svn", "__pycache__", "node_modules", ".sitegen-cache"}
-MAX_DEPTH = 32  # folders below the content folder; course sites use three or four
 MAX_PAGE_BYTES = 8 << 20  # a Markdown page; course pages are tens of kilobytes
 MAX_ASSET_BYTES = 100 << 20  # any other file: GitHub refuses to store larger files
 _PREFIX = re.compile(r"^(\d+)[-_ .]+(?=\S)")
@@ -37,6 +38,7 @@ _FRONT_KEYS = {
     "date": "date",
     "tags": "tags",
     "summary": str,
+    "aliases": "tags",  # old URLs of the page, a list like tags (sitegen/redirects.py)
 }
 
 
@@ -72,6 +74,19 @@ class SourceTree:
     pages: list[SourcePage] = field(default_factory=list)
     assets: list[SourceAsset] = field(default_factory=list)
     dirs: list[PurePosixPath] = field(default_factory=list)
+    #: path -> stat key of every file read (:func:`stat_key`), for the next build's no-op check
+    stats: dict[str, list[int]] = field(default_factory=dict)
+    #: path -> (stat key, SourcePage, SourceAsset or None for a draft) of each file read
+    #: without a problem, for the next scan (``known``)
+    records: dict[str, tuple[list[int], Any]] = field(default_factory=dict)
+    #: False when a file was written within :data:`RACY_NS` of the scan: its stat key might
+    #: not change with its next edit, so the next build must read the files again
+    stats_trusted: bool = True
+
+
+#: A file modified less than this before the scan may be modified again within the file
+#: system's timestamp granularity without its stat changing ("racily clean", as git says).
+RACY_NS = 2_000_000_000
 
 
 def split_name(name: str) -> tuple[int | None, str]:
@@ -168,7 +183,9 @@ def _post_value(want: str, value: Any) -> Any:
     return tuple(dict.fromkeys(str(t).strip() for t in items if str(t).strip()))
 
 
-def read_page(path: Path, rel: PurePosixPath, data: bytes, diags: Diagnostics) -> SourcePage | None:
+def read_page(
+    path: Path, rel: PurePosixPath, data: bytes, diags: Diagnostics, digest: str | None = None
+) -> SourcePage | None:
     try:
         raw = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -184,21 +201,30 @@ def read_page(path: Path, rel: PurePosixPath, data: bytes, diags: Diagnostics) -
         text=body,
         body_line=body_line,
         meta=meta,
-        digest=hashlib.sha256(data).hexdigest(),
+        digest=digest or hashlib.sha256(data).hexdigest(),
         is_index=stem.lower() in ("index", "readme", "_index"),
         prefix=prefix,
         stem=stem,
     )
 
 
-def scan(content_root: Path, diags: Diagnostics, exclude: set[Path] | None = None) -> SourceTree:
+def scan(
+    content_root: Path,
+    diags: Diagnostics,
+    exclude: set[Path] | None = None,
+    known: dict[str, tuple[list[int], Any]] | None = None,
+) -> SourceTree:
     """Walk ``content_root`` in a fixed order and read every page and asset.
+
+    ``known``: the last scan's :attr:`SourceTree.records`; a plain file whose stat key is the
+    one recorded there (and not racily new) is taken from it instead of read again.
 
     The walk keeps its own stack (no recursion, so no depth can overflow Python's), stops at
     :data:`MAX_DEPTH` folders, and reports instead of reading: a symlink whose target lies
     outside the content folder (never followed: it would publish that file), a symlink loop,
     anything that is not a regular file or folder, and files above the size limits."""
     tree = SourceTree()
+    recent = time.time_ns() - RACY_NS
     exclude = {p.resolve() for p in (exclude or set())}
     boundary = content_root.resolve()
     stack: list[tuple[Path, PurePosixPath, Path]] = [(content_root, PurePosixPath("."), boundary)]
@@ -217,7 +243,16 @@ def scan(content_root: Path, diags: Diagnostics, exclude: set[Path] | None = Non
             name = entry.name
             if name.startswith(".") or name.endswith("~"):
                 continue
-            path, rel = here / name, rel_dir / name
+            rel = rel_dir / name
+            try:
+                plain = not entry.is_symlink()  # the common case: its type without a stat
+            except OSError:
+                plain = False  # reported by _inside_target
+            if plain and entry.is_file(follow_symlinks=False):
+                if not (known and _reuse(entry, str(rel), known, tree, recent)):
+                    _read_file(Path(entry.path), rel, tree, diags, recent)
+                continue
+            path = here / name
             real = _inside_target(entry, path, rel, boundary, real_dir, diags)
             if real is None:
                 continue
@@ -234,11 +269,39 @@ def scan(content_root: Path, diags: Diagnostics, exclude: set[Path] | None = Non
                     continue
                 subdirs.append((path, rel, real))
             elif real.is_file():
-                _read_file(path, rel, tree, diags)
+                _read_file(path, rel, tree, diags, recent)
             else:
                 diags.error(str(rel), None, "", "not a regular file or folder; not published")
         stack.extend(reversed(subdirs))
     return tree
+
+
+def _reuse(entry: os.DirEntry, rel: str, known: dict, tree: SourceTree, recent: int) -> bool:
+    """Take ``rel``'s record from the last scan if its stat key is unchanged."""
+    old = known.get(rel)
+    if old is None:
+        return False
+    try:
+        st = entry.stat(follow_symlinks=False)
+    except OSError:
+        return False
+    key = stat_key(st)
+    if key != old[0] or max(st.st_mtime_ns, st.st_ctime_ns) >= recent:
+        return False
+    _record(tree, rel, key, old[1], True)
+    return True
+
+
+def _record(tree: SourceTree, rel: str, key: list[int], record: Any, keep: bool) -> None:
+    """A file read cleanly: a page, an asset, or None (a draft page); ``keep``: its stat key
+    may be trusted by the next scan (it was not written just before this one)."""
+    tree.stats[rel] = key
+    if keep:
+        tree.records[rel] = (key, record)
+    if isinstance(record, SourcePage):
+        tree.pages.append(record)
+    elif record is not None:
+        tree.assets.append(record)
 
 
 def _display(rel: PurePosixPath) -> str:
@@ -275,35 +338,54 @@ def _inside_target(
     return target
 
 
-def _read_file(path: Path, rel: PurePosixPath, tree: SourceTree, diags: Diagnostics) -> None:
+def _read_file(
+    path: Path, rel: PurePosixPath, tree: SourceTree, diags: Diagnostics, recent: int
+) -> None:
     """Read a page (bounded) or hash an asset (in blocks), enforcing the size limits."""
     is_page = rel.name.lower().endswith(PAGE_SUFFIXES)
     limit = MAX_PAGE_BYTES if is_page else MAX_ASSET_BYTES
     kind = "a Markdown page" if is_page else "a file"
     h = hashlib.sha256()
-    chunks: list[bytes] = []
-    size = 0
+    data = b""
     try:
         with open(path, "rb") as fh:
-            for block in iter(lambda: fh.read(1 << 20), b""):
-                size += len(block)
-                if size > limit:
-                    diags.error(
-                        str(rel),
-                        None,
-                        "",
-                        f"{kind} larger than the limit of {limit // (1 << 20)} MiB; not published",
-                    )
-                    return
-                h.update(block)
-                if is_page:
-                    chunks.append(block)
+            st = os.fstat(fh.fileno())
+            if is_page:  # one read of the size the file has (a page is small)
+                data = fh.read(min(st.st_size, limit) + 1)
+                if len(data) > st.st_size:  # it grew while being read
+                    data += fh.read(limit + 1 - len(data))
+                size = len(data)
+                h.update(data)
+            else:
+                size = 0
+                for block in iter(lambda: fh.read(1 << 20), b""):
+                    size += len(block)
+                    if size > limit:
+                        break
+                    h.update(block)
+            if size > limit:
+                diags.error(
+                    str(rel),
+                    None,
+                    "",
+                    f"{kind} larger than the limit of {limit // (1 << 20)} MiB; not published",
+                )
+                return
     except OSError as exc:
         diags.error(str(rel), None, "", f"cannot read: {exc.strerror}")
         return
+    key = stat_key(st)
+    keep = max(st.st_mtime_ns, st.st_ctime_ns) < recent
+    tree.stats_trusted &= keep
+    record: SourcePage | SourceAsset | None = SourceAsset(rel, path, h.hexdigest())
     if is_page:
-        page = read_page(path, rel, b"".join(chunks), diags)
-        if page is not None and not page.meta.get("draft"):
-            tree.pages.append(page)
-    else:
-        tree.assets.append(SourceAsset(rel, path, h.hexdigest()))
+        reported = len(diags.items)
+        record = read_page(path, rel, data, diags, h.hexdigest())
+        if len(diags.items) > reported or record is None:  # read again: its problems too
+            tree.stats[str(rel)] = key
+            if record is not None and not record.meta.get("draft"):
+                tree.pages.append(record)
+            return
+        if record.meta.get("draft"):
+            record = None
+    _record(tree, str(rel), key, record, keep)

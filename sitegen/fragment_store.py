@@ -21,7 +21,14 @@ from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-_SCHEMA = "CREATE TABLE IF NOT EXISTS fragment (key TEXT PRIMARY KEY, data BLOB NOT NULL)"
+from sitegen.search import record_parts
+
+_SCHEMA = (
+    "CREATE TABLE IF NOT EXISTS fragment (key TEXT PRIMARY KEY, data BLOB NOT NULL)",
+    # the page's search record parts (sitegen.search.record_parts): the index is written
+    # from these small strings, not from every page's pickled HTML
+    "CREATE TABLE IF NOT EXISTS search (key TEXT PRIMARY KEY, text TEXT, headings TEXT)",
+)
 
 
 class FragmentStore:
@@ -45,7 +52,8 @@ class FragmentStore:
                 db = sqlite3.connect(str(self.path), timeout=120, isolation_level=None)
                 db.execute("PRAGMA journal_mode=WAL")
                 db.execute("PRAGMA synchronous=OFF")  # a cache: losing it only costs time
-                db.execute(_SCHEMA)
+                for table in _SCHEMA:
+                    db.execute(table)
                 return db
             except sqlite3.DatabaseError:
                 if attempt == 2:
@@ -68,15 +76,32 @@ class FragmentStore:
         return pickle.loads(row[0])
 
     def put_many(self, items: Iterable[tuple[str, Any]]) -> None:
-        rows = [(k, pickle.dumps(v, protocol=pickle.HIGHEST_PROTOCOL)) for k, v in items]
+        """Store ``(key, Rendered)`` pairs, each with its search record parts."""
+        rows, parts = [], []
+        for key, rendered in items:
+            rows.append((key, pickle.dumps(rendered, protocol=pickle.HIGHEST_PROTOCOL)))
+            parts.append((key, *record_parts(rendered.text, rendered.toc)))
         db = self._conn()
         db.execute("BEGIN IMMEDIATE")
         try:
             db.executemany("INSERT OR REPLACE INTO fragment VALUES (?, ?)", rows)
+            db.executemany("INSERT OR REPLACE INTO search VALUES (?, ?, ?)", parts)
             db.execute("COMMIT")
         except BaseException:
             db.execute("ROLLBACK")
             raise
+
+    def search_parts(self, keys: list[str]) -> dict[str, tuple[str, str]]:
+        """``key -> (text JSON, headings JSON)`` for those of ``keys`` the store has (a few
+        queries for the whole list, not one per page)."""
+        found: dict[str, tuple[str, str]] = {}
+        db = self._conn()
+        for i in range(0, len(keys), 500):
+            batch = keys[i : i + 500]
+            marks = ",".join("?" * len(batch))
+            query = f"SELECT key, text, headings FROM search WHERE key IN ({marks})"
+            found.update((k, (t, h)) for k, t, h in db.execute(query, batch))
+        return found
 
     def keep_only(self, keys: set[str]) -> None:
         """Forget every fragment no page uses any more."""
@@ -85,6 +110,7 @@ class FragmentStore:
             db = self._conn()
             db.execute("BEGIN IMMEDIATE")
             db.executemany("DELETE FROM fragment WHERE key = ?", [(k,) for k in stale])
+            db.executemany("DELETE FROM search WHERE key = ?", [(k,) for k in stale])
             db.execute("COMMIT")
 
     def clear(self) -> None:

@@ -87,20 +87,42 @@ def intact(out_dir: Path, manifest: dict[str, list]) -> bool:
     )
 
 
-def current_digests(out_dir: Path, manifest: dict[str, list]) -> dict[str, str]:
-    """Digest of each file now in ``out_dir``, trusting the manifest where the stat matches."""
+def _survey(out_dir: Path, manifest: dict[str, list]):
+    """One stat per file now in ``out_dir`` (as ``os.walk`` lists files: a symlinked folder is
+    not entered): (path -> digest, trusting the manifest where the stat matches; path -> stat
+    key; the paths that share their inode with another file)."""
     found: dict[str, str] = {}
+    keys: dict[str, list[int]] = {}
+    linked: list[str] = []
     if not out_dir.is_dir():
-        return found
-    for dirpath, _dirs, files in os.walk(out_dir):
-        for name in files:
-            path = Path(dirpath) / name
-            rel = path.relative_to(out_dir).as_posix()
-            if unchanged(out_dir, rel, manifest):
-                found[rel] = manifest[rel][0]
+        return found, keys, linked
+    stack = [("", str(out_dir))]
+    while stack:
+        rel_dir, here = stack.pop()
+        with os.scandir(here) as it:
+            entries = list(it)
+        for entry in entries:
+            rel = rel_dir + entry.name
+            if entry.is_dir():
+                if not entry.is_symlink():
+                    stack.append((rel + "/", entry.path))
+                continue
+            try:
+                st = entry.stat()
+                key = [st.st_size, st.st_mtime_ns, st.st_ino]
+            except OSError:
+                key = None
+            old = manifest.get(rel)
+            if key is not None and old and old[1:] == key:
+                found[rel] = old[0]
             else:
-                found[rel] = file_digest(path)
-    return found
+                found[rel] = file_digest(Path(entry.path))
+            if key is not None:
+                keys[rel] = key
+            with contextlib.suppress(OSError):
+                if entry.stat(follow_symlinks=False).st_nlink > 1:
+                    linked.append(rel)
+    return found, keys, linked
 
 
 def publish(
@@ -108,14 +130,15 @@ def publish(
 ) -> tuple[dict[str, list], list[str]]:
     """Make ``out_dir`` hold exactly ``files``. Returns (new manifest, changed paths)."""
     with output_lock(out_dir):
-        now = current_digests(out_dir, manifest)
+        now, keys, linked = _survey(out_dir, manifest)
         removed = sorted(set(now) - set(files))
-        for rel in _hard_linked(out_dir, now):
+        for rel in linked:
             del now[rel]  # shares its inode (a site written before issue 15): write it anew
         changed = sorted(rel for rel, f in files.items() if now.get(rel) != f.digest)
         if (changed or removed) and _few(out_dir, changed, removed, len(files)):
             _update_in_place(out_dir, files, changed, removed)
         elif changed or removed:
+            keys = {}  # every file is written anew into a new folder: new inodes
             with staging(out_dir) as tmp:
                 for rel in sorted(files):
                     f = files[rel]
@@ -130,7 +153,12 @@ def publish(
                     else:
                         assert f.source is not None
                         copy_file(f.source, target)
-    new_manifest = {rel: [f.digest, *(_stat_key(out_dir / rel) or [])] for rel, f in files.items()}
+    for rel in changed:
+        keys.pop(rel, None)
+    new_manifest = {
+        rel: [f.digest, *(keys.get(rel) or _stat_key(out_dir / rel) or [])]
+        for rel, f in files.items()
+    }
     return new_manifest, changed + [f"(removed) {r}" for r in removed]
 
 
@@ -198,15 +226,6 @@ def _update_in_place(
                         (out_dir / parent).rmdir()  # only when empty
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-
-
-def _hard_linked(out_dir: Path, rels: dict[str, str]) -> list[str]:
-    found = []
-    for rel in rels:
-        with contextlib.suppress(OSError):
-            if os.lstat(out_dir / rel).st_nlink > 1:
-                found.append(rel)
-    return found
 
 
 def copy_file(src: Path, dst: Path) -> None:

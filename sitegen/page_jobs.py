@@ -19,7 +19,7 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sitegen.errors import Diagnostic, Diagnostics
 from sitegen.links import LinkTargets, expand_directives, rewrite_links
@@ -27,6 +27,9 @@ from sitegen.nav import Node, Site
 from sitegen.output import unchanged as output_unchanged
 from sitegen.pages import Menus, MenuSignatures, PageBody, context_hash, page_context, render_page
 from sitegen.theme import Theme
+
+if TYPE_CHECKING:
+    from sitegen.build_inputs import Inputs
 
 
 @dataclass
@@ -144,3 +147,67 @@ class PagePhase:
         result.digest = hashlib.sha256(data).hexdigest()
         result.rendered = True
         return result
+
+
+def render_pages(
+    inp: Inputs,
+    site,
+    md,
+    targets,
+    handlers: dict,
+    base: dict,
+    frag,
+    salt: str,
+    scratch: Path,
+    diags: Diagnostics,
+    report,
+):
+    """Stage 4: every page whose inputs changed rendered to ``scratch`` (in workers when many);
+    the others reused from the output. Returns (the page phase, output files, the pages' cache
+    entries)."""
+    from sitegen.output import OutFile
+    from sitegen.workers import run_chunks
+
+    phase = PagePhase(
+        site,
+        md.renders,
+        md.sources,
+        {url: s[1] for url, s in md.summaries.items()},
+        targets,
+        handlers,
+        inp.theme,
+        inp.theme_digest,
+        base,
+        inp.content_root.name,
+        inp.output,
+        inp.state.manifest,
+        frag.pages,
+        scratch,
+        salt,
+    )
+    results: dict[str, PageResult] = {}
+    todo: list[tuple] = []
+    for node in site.order:
+        key = phase.input_key(node)
+        reused = phase.reusable(node, key)
+        if reused is None:
+            todo.append((node, key))
+        else:
+            results[node.url] = reused
+    for result in run_chunks(todo, phase.run):
+        results[result.url] = result
+    files: dict[str, Any] = {}
+    for node in site.order:
+        result = results[node.url]
+        diags.extend(result.diagnostics)
+        if result.rendered:
+            files[node.url] = OutFile(result.digest, source=scratch / node.url, move=True)
+            report.pages_rendered += 1
+        else:
+            files[node.url] = OutFile(result.digest, source=inp.output / node.url)
+    report.pages = len(site.order)
+    new_pages = {
+        url: (r.input_key, r.context_key, r.digest, tuple(r.diagnostics))
+        for url, r in results.items()
+    }
+    return phase, files, new_pages

@@ -11,12 +11,15 @@ import hashlib
 import os
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from markupsafe import Markup
 
-from sitegen.config import Config
 from sitegen.nav import Node, Site, full_tree, menu_for, menu_owner
-from sitegen.theme import Theme
+
+if TYPE_CHECKING:  # integrations import this module for root_prefix: keep Jinja2 out
+    from sitegen.config import Config
+    from sitegen.theme import Theme
 
 # Every page: the name of the generated special pages, kept out of the content namespace.
 
@@ -195,16 +198,3 @@ def sitemap_xml(site: Site, base_url: str) -> bytes:
         lines.append(f"  <url><loc>{loc}</loc>{lastmod}</url>")
     lines.append("</urlset>")
     return ("\n".join(lines) + "\n").encode()
-
-
-def search_entries(site: Site, bodies: dict[str, PageBody]) -> list[dict]:
-    return [
-        {
-            "title": n.title,
-            "url": n.url,
-            "path": [a.title for a in n.ancestors()],
-            "text": bodies[n.url].text,
-            "toc": bodies[n.url].toc,
-        }
-        for n in site.order
-    ]

@@ -1,4 +1,5 @@
-"""The one table of integrations a build runs: rosters, the clip gallery, slide decks, the blog.
+"""The one table of integrations a build runs: rosters, the clip gallery, slide decks, the blog
+and the redirects for old URLs.
 
 Declared here rather than registered by importing a module for its side effect, so that a
 reader sees every integration, the order they run in and what switches each on in one place,
@@ -15,6 +16,7 @@ from pathlib import Path
 from sitegen.blog import BlogIntegration
 from sitegen.config import Config
 from sitegen.integrations import Integration, RunOptions
+from sitegen.redirects import RedirectIntegration
 from sitegen.roster_pages import RosterIntegration
 from sitegen.sims_pages import SimsIntegration
 from sitegen.slides import SlidesIntegration
@@ -34,6 +36,8 @@ INTEGRATIONS: tuple[Plugin, ...] = (
     Plugin("sims", lambda c: c.sims is not None, SimsIntegration),
     Plugin("slides", lambda c: True, lambda c, _cache, _opts: SlidesIntegration(c)),
     Plugin("blog", lambda c: True, lambda c, _cache, _opts: BlogIntegration(c)),
+    # last: its redirects must not take a path another integration made
+    Plugin("redirects", lambda c: True, lambda c, cache, _opts: RedirectIntegration(c, cache)),
 )
 
 

@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import hashlib
 from dataclasses import replace
-from html import escape
 from pathlib import Path, PurePosixPath
 
 from roster import RosterError, diff, load_roster
-from roster.emit import to_html, to_json
+from roster.emit import html_view, to_json
 from sitegen.config import Config, RosterConfig
 from sitegen.errors import Diagnostics
 from sitegen.i18n import roster_labels
@@ -22,6 +21,7 @@ from sitegen.links import url_quote
 from sitegen.nav import Node, PageInput
 from sitegen.output import OutFile, from_bytes
 from sitegen.pages import root_prefix
+from sitegen.partials import Partials
 
 
 def _read(path) -> bytes:
@@ -37,6 +37,7 @@ class RosterIntegration(Integration):
         self.results: dict[str, object] = {}
         self.labels: dict[str, str] | None = None  # the site's words, set by pages()
         self.state_before: dict = {}
+        self.partials = Partials(config)
 
     def fingerprint(self) -> str:
         h = hashlib.sha256(self.config.course_repo.encode())
@@ -96,11 +97,7 @@ class RosterIntegration(Integration):
             rel = self._page_rel(rc)
             depth = len(rel.parts) - 1
             json_href = "../" * depth + url_quote(f"roster/{rc.name}.json")
-            body = (
-                f'<p><a class="roster-json" href="{escape(json_href, quote=True)}" download>'
-                f"{escape(strings['roster_json'])}</a></p>\n"
-                + to_html(result, roster_labels(strings))
-            )
+            body = self._html(result, json_href, strings["roster_json"])
             toc = [
                 {"id": f"group-{g.slug}", "title": g.name, "children": []}
                 for g in result.roster.groups
@@ -120,6 +117,13 @@ class RosterIntegration(Integration):
             )
         return out
 
+    def _html(self, result, json_href: str, json_label: str) -> str:
+        """A roster's HTML from the theme's ``partials/roster.html``, after its JSON link."""
+        view = html_view(result, self.labels)
+        return self.partials.render(
+            "roster", roster=view, json_href=json_href, json_label=json_label
+        )
+
     def files(self) -> dict[str, OutFile]:
         return {
             f"roster/{name}.json": from_bytes(to_json(r).encode())
@@ -133,8 +137,7 @@ class RosterIntegration(Integration):
                 known = ", ".join(sorted(self.results)) or "none configured"
                 raise LookupError(f"no roster named '{arg}' (known: {known})")
             href = root_prefix(node.url) + url_quote(f"roster/{arg.strip()}.json")
-            link = f'<a class="roster-json" href="{escape(href, quote=True)}" download>JSON</a>'
-            return f"<p>{link}</p>\n" + to_html(result, self.labels)
+            return self._html(result, href, "JSON")
 
         return {"roster": roster_directive}
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-from html import escape
 from pathlib import Path, PurePosixPath
 
 from sitegen.config import ClipConfig, Config
@@ -24,6 +23,7 @@ from sitegen.links import url_quote
 from sitegen.nav import Node, PageInput
 from sitegen.output import OutFile, file_digest
 from sitegen.pages import root_prefix
+from sitegen.partials import Partials, trusted
 
 OUT_NAMES = {
     "video": "clip.webm",
@@ -56,6 +56,7 @@ class SimsIntegration(Integration):
         self._files: dict[str, OutFile] = {}
         self.strings = interface_strings(config.language)
         self._clips = {clip.name: clip for clip in self.sims.clips}
+        self.partials = Partials(config)
 
     def clip_title(self, name: str) -> str:
         """The clip's ``title:`` (gallery heading, caption link), else its name."""
@@ -119,6 +120,7 @@ class SimsIntegration(Integration):
 
     def prepare(self, diags: Diagnostics, state) -> None:
         from sims.clips import render_clips
+        from sims.render import fallback_note
 
         config_file = str(
             self.config.source_file.name if self.config.source_file else "sitegen.yml"
@@ -144,6 +146,9 @@ class SimsIntegration(Integration):
             )
         finally:
             shown.close()
+        note = fallback_note(r.fallback for r in results)  # why EGL fell back, once a build
+        if note:
+            self.opts.log(note)
         for r in results:
             if r.pending:  # a quick build (sitegen serve's first): no warning, shown later
                 self.pending.add(r.name)
@@ -171,62 +176,49 @@ class SimsIntegration(Integration):
     def _has(self, name: str, key: str) -> bool:
         return f"clips/{name}/{OUT_NAMES[key]}" in self._files
 
-    def video_html(self, name: str, root: str, caption: bool = True) -> str:
-        r = self.results[name]
-        meta = r.meta
-        base = root + url_quote(f"clips/{name}/")
-        w, h = meta.get("width", self.sims.width), meta.get("height", self.sims.height)
-        poster = f' poster="{base}poster.png"' if self._has(name, "poster") else ""
-        out = [
-            f'<figure class="clip" id="clip-{escape(name, quote=True)}">',
-            f'<video controls muted playsinline preload="metadata" '
-            f'width="{int(w)}" height="{int(h)}"{poster}>',
-            f'<source src="{base}clip.webm" type="video/webm"></video>',
-        ]
-        if caption:
-            gallery = (
-                root
-                + url_quote(f"{self._section()}/index.html")
-                + f"#clip-{escape(name, quote=True)}"
-            )
-            t = self.strings
-            stale = f' <span class="stale">({escape(t["stale"])})</span>' if r.stale else ""
-            length = f"{float(meta.get('duration', 0)):.1f} {t['seconds_unit']}"
-            out.append(
-                f"<figcaption>{escape(str(meta.get('description', name)))} · {escape(length)} · "
-                f'<a href="{gallery}">{escape(self.clip_title(name))}</a>{stale}</figcaption>'
-            )
-        out.append("</figure>")
-        return "\n".join(out)
-
-    def placeholder_html(self, name: str, root: str, caption: bool = True) -> str:
-        """The poster area of a clip with no render: the clip's size, the error inside."""
+    def clip_view(self, name: str, root: str, caption: bool = True) -> dict:
+        """What ``partials/clip.html`` shows of a clip: its video, or a placeholder of its size
+        with the reason it has none; a caption linking to the gallery unless ``caption`` is
+        False (the gallery itself)."""
         t = self.strings
+        anchor = f"clip-{name}"
+        view: dict = {"name": name, "anchor": anchor, "title": self.clip_title(name)}
+        gallery = root + url_quote(f"{self._section()}/index.html") + "#" + url_quote(anchor)
+        if name in self.results:
+            r = self.results[name]
+            meta = r.meta
+            w, h = meta.get("width", self.sims.width), meta.get("height", self.sims.height)
+            view["video"] = {
+                "base": root + url_quote(f"clips/{name}/"),
+                "width": int(w),
+                "height": int(h),
+                "poster": self._has(name, "poster"),
+            }
+            view["caption"] = caption and {
+                "href": gallery,
+                "description": str(meta.get("description", name)),
+                "length": f"{float(meta.get('duration', 0)):.1f} {t['seconds_unit']}",
+                "note": t["stale"] if r.stale else "",
+            }
+            return view
         waiting = name in self.pending and name not in self.failed
-        error = t["rendering"] if waiting else self.failed.get(name, t["not_rendered"])
-        status = t["rendering"] if waiting else t["not_rendered"]
-        w, h = int(self.sims.width), int(self.sims.height)
-        anchor = escape(f"clip-{name}", quote=True)
-        box = (
-            f"aspect-ratio:{w}/{h};width:100%;max-width:{w}px;display:flex;flex-direction:column;"
-            "justify-content:center;gap:6px;padding:12px;box-sizing:border-box;background:#222;"
-            "color:#eee;border-radius:6px;overflow:auto;font-size:.9rem"
-        )
-        out = [
-            f'<figure class="clip {"clip-pending" if waiting else "clip-failed"}" id="{anchor}">',
-            f'<div class="clip-placeholder" role="img" '
-            f'aria-label="{escape(self.clip_title(name), quote=True)}: '
-            f'{escape(status, quote=True)}" style="{box}">',
-            f"<strong>{escape(self.clip_title(name))}: {escape(status)}</strong>",
-            f"<code>{escape(error)}</code></div>",
-        ]
-        if caption:
-            gallery = root + url_quote(f"{self._section()}/index.html") + f"#{anchor}"
-            note = "" if waiting else f' <span class="stale">({escape(t["render_failed"])})</span>'
-            link = f'<a href="{gallery}">{escape(self.clip_title(name))}</a>'
-            out.append(f"<figcaption>{link}{note}</figcaption>")
-        out.append("</figure>")
-        return "\n".join(out)
+        view["video"] = None
+        view["placeholder"] = {
+            "waiting": waiting,
+            "status": t["rendering"] if waiting else t["not_rendered"],
+            "error": t["rendering"] if waiting else self.failed.get(name, t["not_rendered"]),
+            "width": int(self.sims.width),
+            "height": int(self.sims.height),
+        }
+        view["caption"] = caption and {
+            "href": gallery,
+            "note": "" if waiting else t["render_failed"],
+        }
+        return view
+
+    def clip_html(self, name: str, root: str) -> str:
+        """A clip's figure with its caption, from the theme's ``partials/clip.html``."""
+        return self.partials.render("clip", clip=self.clip_view(name, root))
 
     def _section(self) -> str:
         return self.sims.section.strip("/") or "gallery"
@@ -234,10 +226,8 @@ class SimsIntegration(Integration):
     def directives(self) -> dict:
         def clip(arg: str, node: Node) -> str:
             name = arg.strip()
-            if name in self.results:
-                return self.video_html(name, root_prefix(node.url))
-            if name in self.failed or name in self.pending:
-                return self.placeholder_html(name, root_prefix(node.url))
+            if name in self.results or name in self.failed or name in self.pending:
+                return self.clip_html(name, root_prefix(node.url))
             known = ", ".join(c.name for c in self.sims.clips) or "none configured"
             raise LookupError(f"no clip named '{name}' in sitegen.yml (known: {known})")
 
@@ -247,26 +237,19 @@ class SimsIntegration(Integration):
         """The gallery: every clip with poster, length, parameters, data, plot and source."""
         rel = PurePosixPath(self._section(), "index.md")
         root = "../" * (len(rel.parts) - 1)
-        parts, toc = [], []
+        items, toc = [], []
         for clip in self.sims.clips:
-            anchor = f"clip-{clip.name}"
+            view = self.clip_view(clip.name, root, caption=False)
+            toc.append({"id": f"{view['anchor']}-h", "title": view["title"], "children": []})
+            item: dict = {"clip": view, "source": None}
             if clip.name not in self.results:
-                toc.append(
-                    {"id": f"{anchor}-h", "title": self.clip_title(clip.name), "children": []}
-                )
-                heading = f'<h2 id="{escape(anchor)}-h">{escape(self.clip_title(clip.name))}</h2>'
-                parts.append(
-                    f'<section class="gallery-item">{heading}\n'
-                    f"{self.placeholder_html(clip.name, root, caption=False)}\n"
-                    f"{self._source_html(self._source_meta(clip), strings)}</section>"
-                )
+                item["source"] = self._source_view(self._source_meta(clip), strings)
+                items.append(item)
                 continue
-            r = self.results[clip.name]
-            meta = r.meta
-            toc.append({"id": f"{anchor}-h", "title": self.clip_title(clip.name), "children": []})
+            meta = self.results[clip.name].meta
             base = root + url_quote(f"clips/{clip.name}/")
             params = json.dumps(meta.get("params", {}), ensure_ascii=False, sort_keys=True)
-            rows = [
+            item["rows"] = [
                 (
                     strings["duration"],
                     f"{float(meta.get('duration', 0)):.1f} {strings['seconds_unit']} · "
@@ -276,29 +259,20 @@ class SimsIntegration(Integration):
                 (strings["parameters"], f"{strings['seed']} {meta.get('seed')} · {params}"),
                 (strings["renderer"], str(meta.get("renderer", ""))),
             ]
-            dl = "".join(f"<dt>{escape(k)}</dt><dd>{escape(v)}</dd>" for k, v in rows)
-            downloads = " · ".join(
-                f'<a href="{base}{OUT_NAMES[k]}" download>{label}</a>'
+            item["downloads_label"] = strings["downloads"]
+            item["downloads"] = [
+                {"href": base + OUT_NAMES[k], "label": label}
                 for k, label in (("csv", "CSV"), ("json", "JSON"))
                 if self._has(clip.name, k)
-            )
-            dl += f"<dt>{escape(strings['downloads'])}</dt><dd>{downloads}</dd>"
-            plot = (
-                f'<img class="plot" src="{base}path.svg" '
-                f'alt="{escape(strings["trajectory"])}: {escape(clip.name)}" loading="lazy">'
-                if self._has(clip.name, "plot")
-                else ""
-            )
-            heading = f'<h2 id="{escape(anchor)}-h">{escape(self.clip_title(clip.name))}</h2>'
-            description = escape(str(meta.get("description", "")))
-            source = self._source_html(self._source_meta(clip, meta), strings)
-            parts.append(
-                f'<section class="gallery-item">{heading}\n'
-                f"{self.video_html(clip.name, root, caption=False)}\n<p>{description}</p>\n"
-                f"<dl>{dl}</dl>\n{plot}\n{source}</section>"
-            )
-            # the figure carries id clip-NAME, so directive captions link straight to it
-        body = "\n".join(parts)
+            ]
+            item["plot"] = self._has(clip.name, "plot") and {
+                "src": f"{base}path.svg",
+                "alt": f"{strings['trajectory']}: {clip.name}",
+            }
+            item["description"] = str(meta.get("description", ""))
+            item["source"] = self._source_view(self._source_meta(clip, meta), strings)
+            items.append(item)
+        body = self.partials.render("gallery", items=items)
         return [
             PageInput(
                 rel,
@@ -319,7 +293,7 @@ class SimsIntegration(Integration):
             return {"source": self._relative(clip.script)}
         if meta is None and clip.scenario:
             try:
-                from sims.cache import display_path
+                from sims.clip_cache import display_path
                 from sims.scenarios import get_scenario
 
                 return {"source": display_path(get_scenario(clip.scenario).source_path)}
@@ -327,7 +301,8 @@ class SimsIntegration(Integration):
                 return {}
         return meta or {}
 
-    def _source_html(self, meta: dict, strings: dict[str, str]) -> str:
+    def _source_view(self, meta: dict, strings: dict[str, str]) -> dict | None:
+        """The clip's source listing for the gallery, highlighted; None when it is not found."""
         from pygments import highlight
         from pygments.formatters import HtmlFormatter
         from pygments.lexers import PythonLexer
@@ -335,19 +310,15 @@ class SimsIntegration(Integration):
         path = meta.get("source") or meta.get("source_path")
         candidates = [Path(path)] if path else []
         if path and not Path(path).is_absolute():
-            from sims.cache import ROOT_DIR  # sims records package-relative paths
+            from sims.clip_cache import ROOT_DIR  # sims records package-relative paths
 
             candidates = [ROOT_DIR / path, self.config.root / path]
         source = next((p for p in candidates if p.is_file()), None)
         if source is None:
-            return ""
+            return None
         code = highlight(
             source.read_text(encoding="utf-8", errors="replace"),
             PythonLexer(),
             HtmlFormatter(cssclass="highlight", wrapcode=True),
         )
-        return (
-            f"<details><summary>{escape(strings['source'])}: "
-            f"<code>{escape(str(path))}</code></summary>\n"
-            f"{code}</details>"
-        )
+        return {"label": strings["source"], "path": str(path), "html": trusted(code)}

@@ -7,14 +7,12 @@ file there replaces the default of the same name.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import re
 from importlib import resources
 from pathlib import Path
 from urllib.parse import quote
-
-import jinja2
-from pygments.formatters import HtmlFormatter
 
 
 def default_theme_dir() -> Path:
@@ -30,6 +28,8 @@ def default_theme_dir() -> Path:
 
 def pygments_css() -> str:
     """Light and dark code colours, generated from Pygments so they match its markup."""
+    from pygments.formatters import HtmlFormatter
+
     light = HtmlFormatter(style="default").get_style_defs(".highlight")
     # dark when the reader chose it, or the system is dark and the reader did not choose light
     dark = HtmlFormatter(style="monokai").get_style_defs("[data-theme=dark] .highlight")
@@ -58,7 +58,14 @@ def shrink(suffix: str, data: bytes) -> bytes:
 class Theme:
     def __init__(self, project_dir: Path | None):
         self.dirs = [d for d in (project_dir, default_theme_dir()) if d is not None and d.is_dir()]
-        self.env = jinja2.Environment(
+
+    @functools.cached_property
+    def env(self):
+        """Made on first use: a no-op build reads the theme's digest only, and importing
+        Jinja2 would be a fifth of its time."""
+        import jinja2
+
+        env = jinja2.Environment(
             loader=jinja2.FileSystemLoader([str(d) for d in self.dirs]),
             autoescape=True,
             undefined=jinja2.StrictUndefined,
@@ -66,8 +73,9 @@ class Theme:
             keep_trailing_newline=True,
         )
         # tojson for scripts (assets/nav.js): UTF-8 text is smaller than \u escapes
-        self.env.policies["json.dumps_kwargs"] = {"sort_keys": True, "ensure_ascii": False}
-        self.env.filters["u"] = lambda path: quote(str(path), safe="/#-._~!$&'()*+,;=:@%")
+        env.policies["json.dumps_kwargs"] = {"sort_keys": True, "ensure_ascii": False}
+        env.filters["u"] = lambda path: quote(str(path), safe="/#-._~!$&'()*+,;=:@%")
+        return env
 
     def assets(self) -> dict[str, bytes]:
         """Static files for ``assets/``: the project's override the defaults by name."""

@@ -82,3 +82,29 @@ def test_walker_type_checks(kind, value):
     w, root = _walk(f"v: {value}\n")
     assert w.value(root.value[0][1], "v", kind) is None
     assert w.problems[0].line == 1 and w.problems[0].field == "v"
+
+
+def test_a_yaml_error_is_a_located_error_with_file_line_and_column():
+    """A caller that reports located problems one way (``except LocatedError``) also catches
+    every YAML failure: syntax errors and broken limits, each at its line."""
+    with pytest.raises(LocatedError) as info:
+        compose("title: ok\nlist: [1,\n", "site.yml")
+    assert (info.value.file, info.value.line) == ("site.yml", 3)
+    assert info.value.diagnostic.column == 1
+    assert str(info.value) == "site.yml:3:1: error: " + info.value.message
+    assert info.value.message.startswith("YAML syntax error")
+    with pytest.raises(LocatedError) as info:
+        compose("a: &a [x]\nb: [*a, *a]\n", "f.yml", max_aliases=1)
+    assert (info.value.line, info.value.field) == (2, "")
+    assert "more than 1 YAML aliases" in str(info.value)
+
+
+def test_sitegen_config_reports_a_yaml_syntax_error_at_its_line(tmp_path):
+    from sitegen.config import parse_config
+    from sitegen.errors import BuildError
+
+    with pytest.raises(BuildError) as info:
+        parse_config("title: x\nclips: [\n", tmp_path)
+    assert [d.format() for d in info.value.diagnostics] == [
+        "sitegen.yml:3:1: error: YAML syntax error: did not find expected node content"
+    ]

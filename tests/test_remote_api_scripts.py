@@ -387,7 +387,7 @@ def test_record_writes_gallery_files(tmp_path, capsys):
 
 
 def test_script_clip_kind_renders_and_keys_by_content(tmp_path):
-    from sims import cache
+    from sims import clip_cache
     from sims.clips import ClipSpec, render_clips, spec_fields
     from sims.remote_api.script_clips import script_plan
 
@@ -401,10 +401,10 @@ def test_script_clip_kind_renders_and_keys_by_content(tmp_path):
     )
     plan = script_plan(spec)
     assert plan.scene == "cart" and 2.0 < plan.duration < 3.5
-    key = cache.clip_key(spec_fields(spec, plan.seed, plan.params), plan.hash_files)
+    key = clip_cache.clip_key(spec_fields(spec, plan.seed, plan.params), plan.hash_files)
     script.write_text(script.read_text(encoding="utf-8") + "\n# changed\n", encoding="utf-8")
     plan2 = script_plan(spec)
-    assert cache.clip_key(spec_fields(spec, plan2.seed, plan2.params), plan2.hash_files) != key
+    assert clip_cache.clip_key(spec_fields(spec, plan2.seed, plan2.params), plan2.hash_files) != key
     [result] = render_clips([spec], tmp_path / "cache", jobs=1)
     assert result.ok, result.error
     assert result.files["video"].stat().st_size > 0

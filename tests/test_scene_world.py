@@ -462,3 +462,35 @@ def test_cli_names_what_the_scene_lacks_and_strict_fails(tmp_path):
     )
     assert missing.returncode == 2 and "none.ttt: no such scene file" in missing.stderr
     assert "Traceback" not in missing.stderr
+
+
+def test_egl_draws_the_scene_look_not_the_physics_shapes():
+    """The 2W1A is white with grey wheels and arm; its respondable shapes are hidden in the
+    scene. pybullet's EGL renderer would draw a link without a visual shape from its collision
+    shape in its own palette (green, yellow, red), over the scene's look."""
+    with World("2w1a", render_with="auto") as w:
+        if w.renderer != "egl":
+            pytest.skip("EGL is not available here (the TinyRenderer fallback draws visuals only)")
+        for _ in range(10):
+            w.step()
+        rgb = w.render(320, 240).astype(int)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    palette = ((g - r > 60) & (g - b > 60)) | ((r - b > 120) & (g - b > 100))  # green or yellow
+    assert palette.sum() < 20, f"{palette.sum()} pixels in pybullet's collision-shape colours"
+
+
+@pytest.mark.parametrize("renderer", ["auto", "tinyrenderer"])
+def test_the_floor_outline_is_not_drawn_over_the_floor(renderer):
+    """The course floor's visible element holds its two tile colours and a black quad over the
+    whole floor that CoppeliaSim draws as a wireframe (its outline). Drawn filled, it fights
+    the tiles for depth: black streaks with EGL, black patches with TinyRenderer."""
+    scene = open_scene("2w1a")
+    floor = next(o for o in scene.objects if o.name == "ResizableFloor_5_25_visibleElement")
+    assert [m.wireframe for m in floor.shape.meshes] == [False, False, True]
+    with World(scene, render_with=renderer) as w:
+        for _ in range(10):
+            w.step()
+        rgb = w.render(320, 240)
+        used = w.renderer
+    black = (rgb.max(axis=2) < 8).sum()
+    assert black < 30, f"{black} black pixels ({used})"

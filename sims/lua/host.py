@@ -1,7 +1,8 @@
 """A scene's child and customization scripts, run the way CoppeliaSim's main script runs them.
 
 ``ScriptHost(world)`` loads every enabled, non-empty child and customization script of the
-World's scene, each in its own sandboxed Lua state (runtime.py). Per simulation pass (the
+World's scene, each in its own sandboxed Lua state (runtime.py; the ``sim.*`` functions and
+constants are bound to it on first use: binding.py). Per simulation pass (the
 scene's time step, 50 ms by default; several physics steps of the World):
 
 1. actuation: threaded scripts resume (launched at the first pass; they run until they yield at
@@ -27,9 +28,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .binding import Binder
 from .constants import constants
-from .runtime import LuaScriptError, LuaState, text
-from .simapi import OLD_NAMES, REGISTRY, Context, old_name
+from .runtime import LuaScriptError, LuaState
+from .simapi import Context
 
 
 @dataclass(frozen=True)
@@ -140,34 +142,7 @@ class ScriptHost:
             self._tmp.name, lambda name, line, r=run: self._note_missing(r, name, line)
         )
         run.state = state
-        ctx = Context(self, run)
-        sim = state.module("sim")
-        modules: dict[str, Any] = {"sim": sim}
-        for name, fn in REGISTRY.items():
-            wrapped = _bind(fn, ctx)
-            if "." in name:
-                mod, _, member = name.partition(".")
-                if mod not in modules:
-                    modules[mod] = state.module(mod)
-                state.set_function(modules[mod], member, wrapped, run.threaded, name)
-                continue
-            state.set_function(sim, name, wrapped, run.threaded, "sim." + name)
-            state.g[old_name(name).encode()] = sim[name.encode()]
-        for old, new in OLD_NAMES.items():
-            target = new if "." in new else "sim." + new
-            mod, _, member = target.partition(".")
-            if mod in modules:
-                state.g[old.encode()] = modules[mod][member.encode()]
-        for k, v in constants(self.new_api).items():
-            sim[k.encode()] = v
-            state.g[("sim_" + k).encode()] = v
-        rt = state.rt
-        sim[b"switchThread"] = rt.switch
-        state.g[b"simSwitchThread"] = rt.switch
-        now = sim[b"getSimulationTime"]
-        waiter = state.lua.eval(b"function(rt, now) return function(dt) rt.wait(dt, now) end end")
-        sim[b"wait"] = waiter(rt, now)
-        state.g[b"simWait"] = sim[b"wait"]
+        Binder(state, Context(self, run), run.threaded, self.new_api).install()
         run.chunk = state.compile(run.text, run.name)
 
     def _note_missing(self, run: ScriptRun, name: str, line: int) -> None:
@@ -271,10 +246,7 @@ class ScriptHost:
         customs = [r for r in self.scripts if r.kind == "customization"]
         for run in customs:
             self._init(run)
-            if not run.new_style:
-                self._dispatch(run, "before")
-            else:
-                self._dispatch(run, "before")
+            self._dispatch(run, "before")
         for run in self.scripts:
             if run.kind == "child":
                 self._init(run)
@@ -423,29 +395,3 @@ class ScriptHost:
             lines.append("[lua] functions the scene's scripts called that are not emulated:")
             lines += [f"  {m.describe()}" for m in self.missing]
         return lines
-
-
-def _bind(fn: Callable[..., Any], ctx: Context) -> Callable[..., Any]:
-    state = ctx.state
-
-    def call(*args: Any) -> Any:
-        try:
-            out = fn(ctx, *args)
-        except (ValueError, TypeError, KeyError, IndexError, struct_error) as exc:
-            return state.fail(str(exc) or type(exc).__name__)
-        except Exception as exc:  # a command error from the remote API layer
-            return state.fail(str(exc) or type(exc).__name__)
-        if isinstance(out, tuple):
-            if out and out[0] is state.err:
-                return out
-            return tuple(state.to_lua(v) for v in out)
-        return state.to_lua(out)
-
-    return call
-
-
-from struct import error as struct_error  # noqa: E402
-
-
-def text_of(value: Any) -> str:
-    return text(value)

@@ -164,15 +164,19 @@ function RT.switch()
 end
 
 -- a Python function as a sim.* function: errors raised at the script's line, auto switches
+-- (no table per call: the results pass through ``finish``, which a tail call enters, so that
+-- level 2 of its error is the script's line)
+local function finish(name, threaded, first, ...)
+    if first == ERR then error(name .. ": " .. tostring((...)), 2) end
+    if threaded and RT.switch_due and in_thread() then
+        RT.switch_due = false
+        co_yield()
+    end
+    return first, ...
+end
 function RT.wrap(fn, name, threaded)
     return function(...)
-        local r = pack(fn(...))
-        if r[1] == ERR then error(name .. ": " .. tostring(r[2]), 2) end
-        if threaded and RT.switch_due and in_thread() then
-            RT.switch_due = false
-            co_yield()
-        end
-        return table_unpack(r, 1, r.n)
+        return finish(name, threaded, fn(...))
     end
 end
 
@@ -186,9 +190,15 @@ end
 RT.stub = stub
 local MODULES = {simUI=1, simIK=1, simOMPL=1, simRemoteApi=1, simVision=1, simROS=1, simROS2=1,
     simZMQ=1, simB0=1, simAssimp=1, simQHull=1, simSurfRec=1, simICP=1, simWS=1, simBubble=1}
-function RT.module(prefix, t)
+-- members are bound on first use: ``resolve(k)`` (Python) gives the function or constant
+function RT.module(prefix, t, resolve)
     return setmetatable(t or {}, {__index = function(tab, k)
         if type(k) ~= "string" then return nil end
+        if resolve then
+            local v, fn = resolve(k)
+            if fn then v = RT.wrap(v, prefix .. "." .. k, RT.threaded) end
+            if v ~= nil then rawset(tab, k, v) return v end
+        end
         if sfind(k, "^%l[%w]*_") or sfind(k, "^%u") then
             local info = getinfo(2, "Sl") or {}
             PY.missing(prefix .. "." .. k .. " (constant)", info.currentline or -1)
@@ -201,6 +211,14 @@ function RT.module(prefix, t)
 end
 setmetatable(_G, {__index = function(t, k)
     if type(k) ~= "string" or ssub(k, 1, 3) ~= "sim" then return nil end
+    if RT.resolve_global then  -- 3.x names (simGetObjectHandle, sim_handle_self), on first use
+        local v, member = RT.resolve_global(k)  -- a constant, or a module and member name
+        if member then
+            v = rawget(t, v)
+            if v then v = v[member] end
+        end
+        if v ~= nil then rawset(t, k, v) return v end
+    end
     if MODULES[k] then
         local m = RT.module(k)
         rawset(t, k, m)

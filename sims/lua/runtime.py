@@ -75,6 +75,8 @@ class LuaState:
         if isinstance(value, bytearray):
             return bytes(value)
         if isinstance(value, (list, tuple)):  # one lupa call fills the array part
+            if all(type(v) is float for v in value):  # a vector: nothing to convert
+                return self.lua.table(*value)
             return self.lua.table(*[self.to_lua(v) for v in value])
         if isinstance(value, dict):
             return self.table_of(value)

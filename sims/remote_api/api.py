@@ -8,9 +8,10 @@ from __future__ import annotations
 
 from . import constants as _constants
 from . import extras as _extras
-from . import functions as _functions
+from . import functions_objects as _objects
+from . import functions_session as _session
 
-for _module in (_constants, _functions, _extras):
+for _module in (_constants, _session, _objects, _extras):
     for _name in dir(_module):
         if _name.startswith(("simx", "sim_")):
             globals()[_name] = getattr(_module, _name)

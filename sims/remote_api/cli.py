@@ -248,10 +248,12 @@ def _run(args: argparse.Namespace) -> int:
     if args.record and result.exit_code == 0:
         try:
             # a real-time run's length is not reproducible: let the recorder measure its own
-            files = record_clip(args, scene, None if args.realtime else result.sim_time)
+            files, note = record_clip(args, scene, None if args.realtime else result.sim_time)
         except Exception as exc:  # a recording failure is reported, the run's result stands
             print(f"error: recording {args.record} failed: {exc}", file=sys.stderr)
             return 1
+        if note and args.verbosity >= 0:
+            print(f"[remote-api] {note}", file=sys.stderr)
         print(f"[remote-api] recorded: {', '.join(str(f) for f in files)}", file=sys.stderr)
     elif args.record:
         print("[remote-api] not recorded: the script did not end cleanly", file=sys.stderr)
@@ -264,15 +266,19 @@ def is_bundled_name(scene: str) -> bool:
     return is_bundled(scene)
 
 
-def record_clip(args: argparse.Namespace, scene: str, seconds: float | None) -> list[Path]:
-    """Render the run as a clip with the gallery's machinery; returns the files written.
+def record_clip(
+    args: argparse.Namespace, scene: str, seconds: float | None
+) -> tuple[list[Path], str | None]:
+    """Render the run as a clip with the gallery's machinery; returns the files written and
+    the line saying why EGL fell back (None: it did not).
 
     ``seconds``: the simulated length of the run (None: measured by a silent dry run)."""
     from dataclasses import asdict
 
-    from sims.cache import FILES
+    from sims.clip_cache import FILES
     from sims.clip_worker import render_job
     from sims.clips import ClipSpec
+    from sims.render import fallback_note
 
     from .script_clips import MARGIN, TARGET
 
@@ -294,7 +300,7 @@ def record_clip(args: argparse.Namespace, scene: str, seconds: float | None) -> 
     suffix = {"video": ".webm", "poster": ".png", "csv": ".csv", "json": ".json", "plot": ".svg"}
     stem.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="remote-api-clip-") as tmp:
-        render_job(
+        _, fallback = render_job(
             {
                 "spec": asdict(spec),
                 "target": TARGET,
@@ -307,7 +313,7 @@ def record_clip(args: argparse.Namespace, scene: str, seconds: float | None) -> 
             target = stem.parent / (stem.name + suffix[kind])
             shutil.copyfile(Path(tmp) / name, target)
             written.append(target)
-    return written
+    return written, fallback_note([fallback])
 
 
 if __name__ == "__main__":  # pragma: no cover

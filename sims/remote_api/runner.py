@@ -6,7 +6,8 @@ clock by default: ``time.sleep`` lets simulated time pass at once, so a script t
 finishes in seconds. Python's ``random`` is seeded (``random.seed()`` without an argument in the
 script reuses that seed), so a run is reproducible. The script runs in a child process that is
 killed, with every process it started, when the script ends or runs out of time, and which has
-no network: a network namespace of its own (isolate.py) plus a socket guard in the process.
+no network: a network namespace of its own (isolate.py) plus a socket guard in the process
+(script_fences.py, with the script's import path and wall-clock watchdog).
 
 Outcome: a ``RunResult`` with the exit code, a one-line message for errors/time-outs naming the
 script line, simulated/wall/virtual seconds, the addresses the script asked for (recorded, never
@@ -16,16 +17,13 @@ contacted) and a per-pass trace of the robot's pose.
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import inspect
 import math
-import random
 import runpy
-import socket
 import sys
 import threading
 import traceback
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -33,12 +31,10 @@ from typing import Any
 from .client import Connection, Session, set_session
 from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
 from .isolate import run_isolated, thread_network_namespace
-from .zmq import MODULES as ZMQ_MODULES
+from .script_fences import Watchdog, no_network, script_environment
 from .zmq import uses_zmq
 from .zmq.server import release_stepping
 
-SHIM_DIR = Path(__file__).resolve().parent / "shim"
-SHIM_MODULES = ("sim", "vrep", "simConst", "vrepConst", "keyboard", *ZMQ_MODULES)
 DEFAULT_TIMEOUT = 300.0
 
 
@@ -87,112 +83,6 @@ class RunResult:
             f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
             f"contacted): {addresses}"
         ) + (f"; isolation: {self.isolation}" if self.isolation.endswith(" only") else "")
-
-
-class _Watchdog:
-    """Stops the script thread once ``limit`` wall seconds pass (re-raising until it ends)."""
-
-    def __init__(self, limit: float | None, thread_id: int):
-        self.limit = limit
-        self.thread_id = thread_id
-        self.fired = False
-        self._done = threading.Event()
-        self._thread: threading.Thread | None = None
-
-    def _raise(self, exc: Any) -> None:
-        ctypes.pythonapi.PyThreadState_SetAsyncExc(
-            ctypes.c_ulong(self.thread_id), ctypes.py_object(exc) if exc else None
-        )
-
-    def _watch(self) -> None:
-        if self._done.wait(self.limit):
-            return
-        while not self._done.is_set():
-            self.fired = True
-            self._raise(ScriptTimeout)
-            self._done.wait(0.5)
-
-    def __enter__(self) -> _Watchdog:
-        if self.limit is not None and math.isfinite(self.limit):
-            self._thread = threading.Thread(
-                target=self._watch, name="remote-api-watchdog", daemon=True
-            )
-            self._thread.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._done.set()
-        if self._thread is not None:
-            self._thread.join()
-            if self.fired:
-                self._raise(None)  # drop an exception not yet delivered
-
-
-@contextlib.contextmanager
-def _script_environment(path: Path, argv: Sequence[str], seed: int | None) -> Iterator[None]:
-    saved_path, saved_argv = list(sys.path), list(sys.argv)
-    saved_modules = {name: sys.modules.pop(name) for name in SHIM_MODULES if name in sys.modules}
-    before = set(sys.modules)
-    saved_random = random.getstate()
-    real_seed = random.seed
-    sys.path[:0] = [str(SHIM_DIR), str(path.parent)]
-    sys.argv = [str(path), *argv]
-    if seed is not None:
-        real_seed(seed)
-
-        def seeded(a: Any = None, version: int = 2) -> None:
-            real_seed(seed if a is None else a, version)
-
-        random.seed = seeded
-    try:
-        yield
-    finally:
-        random.seed = real_seed
-        random.setstate(saved_random)
-        sys.path[:], sys.argv[:] = saved_path, saved_argv
-        for name in set(sys.modules) - before:
-            module_file = getattr(sys.modules[name], "__file__", None) or ""
-            ours = name.split(".")[0] in ("sims", "sitegen", "roster")
-            if name in SHIM_MODULES or (not ours and _inside(module_file, (path.parent,))):
-                del sys.modules[name]
-        sys.modules.update(saved_modules)
-
-
-def _inside(file: str, folders: Sequence[Path]) -> bool:
-    if not file:
-        return False
-    p = Path(file).resolve()
-    return any(folder == p.parent or folder in p.parents for folder in folders)
-
-
-@contextlib.contextmanager
-def no_network(thread_id: int) -> Iterator[None]:
-    """Sockets created by the script's thread (every thread, in the child process) cannot
-    connect or send anywhere."""
-    cls = socket.socket
-    names = ("connect", "connect_ex", "sendto") if isinstance(cls, type) else ()
-    saved = {name: getattr(cls, name) for name in names if hasattr(cls, name)}
-
-    def guard(name: str):
-        original = saved[name]
-
-        def method(self, *args: Any, **kwargs: Any):
-            if _in_child or threading.get_ident() == thread_id:
-                raise OSError(
-                    f"socket.{name}: network access is disabled while a script runs "
-                    "under the sitegen remote API emulation"
-                )
-            return original(self, *args, **kwargs)
-
-        return method
-
-    for name in saved:
-        setattr(cls, name, guard(name))
-    try:
-        yield
-    finally:
-        for name, fn in saved.items():
-            setattr(cls, name, fn)
 
 
 def _script_line(exc: BaseException, path: Path) -> int | None:
@@ -276,10 +166,10 @@ def run_script(
     started = real_monotonic()
     try:
         with contextlib.ExitStack() as stack:
-            stack.enter_context(_script_environment(path, argv, seed))
+            stack.enter_context(script_environment(path, argv, seed))
             stack.enter_context(patch_time(clock, tid))
             if not network:
-                stack.enter_context(no_network(tid))
+                stack.enter_context(no_network(tid, every_thread=_in_child))
                 if not _in_child:
                     cut = stack.enter_context(thread_network_namespace())
                     result.isolation = IN_PROCESS_NAMESPACE if cut else IN_PROCESS_GUARD
@@ -363,7 +253,7 @@ def _execute(
 ) -> None:
     wall = timeout if wall_timeout is None else wall_timeout
     try:
-        with _Watchdog(wall, threading.get_ident()):
+        with Watchdog(wall, threading.get_ident()):
             runpy.run_path(str(path), run_name="__main__")
     except SystemExit as exc:
         code = exc.code

@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from sims.quiet import pybullet as p
+from sims.quiet import quiet_fd
 from sims.scene import shapes as S
 from sims.scene.model import SceneObject
 
@@ -181,27 +182,37 @@ def create_body(client: int, body: Body) -> Created:
     rows = {i: (-1 if r < 0 else new_row[r]) for i, r in rows.items()}
     parts = [(new_row[r] if r >= 0 else r, i, pt, o) for r, i, pt, o in parts]
     base_mass, base_inertia, base_inertial = _mass(links[0], body.fixed)
-    uid = p.createMultiBody(
-        baseMass=base_mass,
-        baseCollisionShapeIndex=own_col[0],
-        baseVisualShapeIndex=-1,
-        basePosition=links[0].frame[0],
-        baseOrientation=links[0].frame[1],
-        baseInertialFramePosition=base_inertial[0],
-        baseInertialFrameOrientation=base_inertial[1],
-        linkMasses=[r["mass"] for r in spec],
-        linkCollisionShapeIndices=[r["col"] for r in spec],
-        linkVisualShapeIndices=[-1] * len(spec),
-        linkPositions=[r["tf"][0] for r in spec],
-        linkOrientations=[r["tf"][1] for r in spec],
-        linkInertialFramePositions=[r["inertial"][0] for r in spec],
-        linkInertialFrameOrientations=[r["inertial"][1] for r in spec],
-        linkParentIndices=[r["parent"] for r in spec],
-        linkJointTypes=[r["type"] for r in spec],
-        linkJointAxis=[(0.0, 0.0, 1.0)] * len(spec),
-        flags=p.URDF_USE_SELF_COLLISION,
-        physicsClientId=c,
+    # The scene's look is drawn by separate visual bodies (create_visuals), so a physics link
+    # must draw nothing. pybullet's EGL plugin draws a link that has no visual shape from its
+    # collision shape, in its own palette (green, yellow, red: the hidden respondable shapes of
+    # a CoppeliaSim model would show, and the floor's hidden cuboid z-fights with its visible
+    # tiles); hence a sub-pixel, transparent visual shape on every link. It also says on stdout,
+    # once per mesh, that it could not draw a mesh given as vertices: kept off the CLI.
+    hidden = p.createVisualShape(
+        p.GEOM_SPHERE, radius=1e-6, rgbaColor=(0.0, 0.0, 0.0, 0.0), physicsClientId=c
     )
+    with quiet_fd(1):
+        uid = p.createMultiBody(
+            baseMass=base_mass,
+            baseCollisionShapeIndex=own_col[0],
+            baseVisualShapeIndex=hidden,
+            basePosition=links[0].frame[0],
+            baseOrientation=links[0].frame[1],
+            baseInertialFramePosition=base_inertial[0],
+            baseInertialFrameOrientation=base_inertial[1],
+            linkMasses=[r["mass"] for r in spec],
+            linkCollisionShapeIndices=[r["col"] for r in spec],
+            linkVisualShapeIndices=[hidden] * len(spec),
+            linkPositions=[r["tf"][0] for r in spec],
+            linkOrientations=[r["tf"][1] for r in spec],
+            linkInertialFramePositions=[r["inertial"][0] for r in spec],
+            linkInertialFrameOrientations=[r["inertial"][1] for r in spec],
+            linkParentIndices=[r["parent"] for r in spec],
+            linkJointTypes=[r["type"] for r in spec],
+            linkJointAxis=[(0.0, 0.0, 1.0)] * len(spec),
+            flags=p.URDF_USE_SELF_COLLISION,
+            physicsClientId=c,
+        )
     p.changeDynamics(uid, -1, linearDamping=0.0, angularDamping=0.0, physicsClientId=c)
     if not body.fixed:
         p.changeDynamics(uid, -1, localInertiaDiagonal=base_inertia, physicsClientId=c)

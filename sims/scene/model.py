@@ -43,7 +43,9 @@ class Mesh:
     indices (i, j, k, ...). ``primitive`` names the pure type when the mesh is a primitive
     ("cuboid", "cylinder", "sphere", "disc", "cone", "plane"), with its ``size`` (x, y, z extents;
     for a sphere/cylinder the diameters in x and y and the height in z); None for a plain mesh.
-    ``local`` is the mesh's pose in the shape frame (compound shapes place their parts)."""
+    ``local`` is the mesh's pose in the shape frame (compound shapes place their parts).
+    ``wireframe``: CoppeliaSim draws only the mesh's edges (a floor's outline, say); sitegen's
+    renderers draw triangles only, so such a mesh is not drawn."""
 
     vertices: tuple[float, ...] = ()
     indices: tuple[int, ...] = ()
@@ -52,6 +54,7 @@ class Mesh:
     local: Pose = field(default_factory=Pose)
     color: RGB = (0.8, 0.8, 0.8)  # ambient/diffuse colour
     visible: bool = True
+    wireframe: bool = False
 
 
 @dataclass(frozen=True)

@@ -138,7 +138,7 @@ def mesh_file(points: list, triangles: list) -> str:
 
 def create_visual(client: int, part: Part) -> int:
     """A visual shape for one visible part in its colour (-1 if invisible or empty)."""
-    if not (part.visible and part.mesh.visible):
+    if not (part.visible and part.mesh.visible) or part.mesh.wireframe:
         return -1
     g = geometry(part)
     if g is None:

@@ -237,6 +237,7 @@ class ShapeReader:
         size = (0.0, 0.0, 0.0)
         local = part.frame or Pose()
         color = (0.8, 0.8, 0.8)
+        wireframe = False
         for c in parts:
             f = Fields(self.buf, c)
             if c.name == "Cl0":
@@ -260,6 +261,8 @@ class ShapeReader:
                     self.unknown.add(f"{OTHER_PRIMITIVES[kind]} primitive (kept as a mesh)")
             elif c.name in ("Ppf", "_pf"):
                 local = pose7x(f.real(7))
+            elif c.name == "Var":  # bits: 0 visible edges, 1 culling, 2 wireframe
+                wireframe = bit(f.u8(), 2)
             elif c.name not in _MESH_IGNORED:
                 self.unknown.add(f"mesh {c.name}")
         if vertices is None or indices is None:
@@ -277,6 +280,7 @@ class ShapeReader:
                 size=size,
                 local=local,
                 color=color,
+                wireframe=wireframe,
             )
         )
 
@@ -309,7 +313,7 @@ class ShapeReader:
 
 _MESH_IGNORED = {
     "Cl2", "Ecl", "Nov", "Vvd", "Nor", "No2", "Ved", "Pp2", "_p2", "Gsa", "_sa", "Gs2", "_s2",
-    "Var", "Va2", "Hfd", "_fd", "Toj",
+    "Va2", "Hfd", "_fd", "Toj",
 }  # fmt: skip
 
 

@@ -3,6 +3,7 @@ shape's dynamics (see :mod:`sims.scene.xml` for what the file holds)."""
 
 from __future__ import annotations
 
+import dataclasses
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -23,6 +24,13 @@ def _color(el: ET.Element) -> tuple[float, float, float]:
 
 
 def _part(el: ET.Element, notes: list[str]) -> Mesh | None:
+    mesh = _geometry(el, notes)
+    if mesh is not None and flag(el, "wireframe", False):
+        mesh = dataclasses.replace(mesh, wireframe=True)
+    return mesh
+
+
+def _geometry(el: ET.Element, notes: list[str]) -> Mesh | None:
     local = frame(el.find("localFrame"))
     if el.tag == "primitive":
         kind = text(el, "type", "cuboid") or "cuboid"

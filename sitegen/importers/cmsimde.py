@@ -10,7 +10,8 @@ builder disambiguates slugs).
 
 Everything is computed in memory first and written at the end into a temporary folder that
 replaces DEST, so a failed import never leaves half a tree and the same input always gives
-byte-identical output.
+byte-identical output. The cut into pages is :mod:`sitegen.importers.cmsimde_pages`; links and
+assets are :mod:`sitegen.importers.cmsimde_links`; this module reads, converts and writes.
 """
 
 from __future__ import annotations
@@ -24,18 +25,23 @@ from pathlib import Path, PurePosixPath
 
 from sitegen.importers import mdtext
 from sitegen.importers.cmsimde_links import Assets, LinkResolver
+from sitegen.importers.cmsimde_pages import (
+    Page,
+    assign_paths,
+    heading_markup,
+    nest,
+    split_pages,
+    visible,
+    walk_pages,
+)
 from sitegen.importers.html_to_markdown import Converter, Hooks
-from sitegen.importers.htmltree import Element, Node, ParseIssue, Text, parse_html
+from sitegen.importers.htmltree import ParseIssue, parse_html
 from sitegen.importers.project_config import (
     CONFIG_NAME,
     ProjectConfig,
     detect_language,
     write_project_config,
 )
-from sitegen.slugs import slugify
-
-PAGE_HEADINGS = ("h1", "h2", "h3")
-_RESERVED_STEMS = {"index", "readme", "_index"}  # sitegen reads these as a folder's own page
 
 
 class CmsimdeImportError(Exception):
@@ -69,17 +75,6 @@ class ImportReport:
     images_extracted: list[str] = field(default_factory=list)  # DEST-relative paths
     config_file: Path | None = None  # the sitegen.yml written (or found) beside DEST
     config_note: str = ""  # what happened to it, for the report
-
-
-@dataclass
-class _Page:
-    title: str
-    level: int
-    line: int
-    nodes: list[Node]
-    children: list[_Page] = field(default_factory=list)
-    rel: PurePosixPath = PurePosixPath("index.md")
-    weight: int = 0
 
 
 @dataclass
@@ -136,110 +131,6 @@ def _site_title(site: _Site) -> str | None:
     return None
 
 
-# -- splitting into pages ----------------------------------------------------------------------
-
-
-def _is_page_heading(node: Node) -> bool:
-    return isinstance(node, Element) and node.tag in PAGE_HEADINGS and bool(node.text().strip())
-
-
-def _contains_heading(el: Element) -> bool:
-    return any(_is_page_heading(n) for n in el.walk())
-
-
-def _flatten(nodes: list[Node], lifted: list[Element]) -> list[Node]:
-    """Bring headings nested in containers (``<div><h2>``) to the top, splitting the container.
-
-    cmsimde cuts the raw text at each heading, which splits such a container too; we split it
-    cleanly (one copy of the container before the heading, one after).
-    """
-    out: list[Node] = []
-    for node in nodes:
-        if isinstance(node, Element) and not _is_page_heading(node) and _contains_heading(node):
-            lifted.append(node)
-            buffer: list[Node] = []
-            for part in _flatten(node.children, lifted):
-                if _is_page_heading(part):
-                    if buffer:
-                        out.append(node.clone(buffer))
-                        buffer = []
-                    out.append(part)
-                else:
-                    buffer.append(part)
-            if buffer:
-                out.append(node.clone(buffer))
-        else:
-            out.append(node)
-    return out
-
-
-def _split(root: Element, notes: list[ParseIssue]) -> tuple[list[Node], list[_Page]]:
-    lifted: list[Element] = []
-    nodes = _flatten(root.children, lifted)
-    for el in lifted:
-        notes.append(ParseIssue(el.line, f"<{el.tag}> holds page headings: split at them"))
-    preamble: list[Node] = []
-    pages: list[_Page] = []
-    for node in nodes:
-        if _is_page_heading(node):
-            assert isinstance(node, Element)
-            pages.append(_Page(node.text().strip(), int(node.tag[1]), node.line, []))
-        elif isinstance(node, Element) and node.tag in PAGE_HEADINGS:
-            notes.append(
-                ParseIssue(node.line, f"empty <{node.tag}> is not a page (cmsimde drops it)")
-            )
-            (pages[-1].nodes if pages else preamble).append(node)
-        else:
-            (pages[-1].nodes if pages else preamble).append(node)
-    return preamble, pages
-
-
-def _heading_markup(root: Element) -> dict[int, list[str]]:
-    """Elements inside page headings (links, images...): only their text survives as title."""
-    found: dict[int, list[str]] = {}
-    for el in root.walk():
-        if _is_page_heading(el):
-            assert isinstance(el, Element)
-            tags = sorted({n.tag for n in el.walk() if isinstance(n, Element)})
-            if tags:
-                found[el.line] = tags
-    return found
-
-
-def _nest(pages: list[_Page]) -> list[_Page]:
-    """Each heading goes under the nearest earlier heading of a smaller level (as cmsimde's
-    menu)."""
-    top: list[_Page] = []
-    stack: list[_Page] = []
-    for page in pages:
-        while stack and stack[-1].level >= page.level:
-            stack.pop()
-        (stack[-1].children if stack else top).append(page)
-        stack.append(page)
-    return top
-
-
-def _assign_paths(pages: list[_Page], folder: PurePosixPath) -> None:
-    width = max(2, len(str(len(pages))))
-    for number, page in enumerate(pages, 1):
-        stem = slugify(page.title, "page")
-        if stem in _RESERVED_STEMS:
-            stem += "-page"
-        name = f"{number:0{width}d}-{stem}"
-        page.weight = number
-        if page.children:
-            page.rel = folder / name / "index.md"
-            _assign_paths(page.children, folder / name)
-        else:
-            page.rel = folder / f"{name}.md"
-
-
-def _walk(pages: list[_Page]):
-    for page in pages:
-        yield page
-        yield from _walk(page.children)
-
-
 # -- output ------------------------------------------------------------------------------------
 
 
@@ -250,24 +141,6 @@ def _page_text(title: str, weight: int | None, body: str) -> bytes:
     head.append("---")
     text = "\n".join(head) + "\n" + (f"\n{body}\n" if body.strip() else "")
     return text.encode("utf-8")
-
-
-def _visible(nodes: list[Node]) -> bool:
-    for node in nodes:
-        if isinstance(node, Text) and node.data.replace("\xa0", " ").strip():
-            return True
-        if isinstance(node, Element) and node.tag not in (
-            "script",
-            "style",
-            "br",
-            "p",
-            "div",
-            "span",
-        ):
-            return True
-        if isinstance(node, Element) and _visible(node.children):
-            return True
-    return False
 
 
 def _inside(child: Path, parent: Path) -> bool:
@@ -337,7 +210,7 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     _check_dest(dest, site, force)
     source = _read(site.content_file)
     root, issues = parse_html(source)
-    preamble, flat = _split(root, issues)
+    preamble, flat = split_pages(root, issues)
     if not flat:
         raise CmsimdeImportError(
             site.content_file,
@@ -353,12 +226,12 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
         )
         flat[0].level = 1
     issues.sort(key=lambda issue: issue.line)
-    markup = _heading_markup(root)
-    tree = _nest(flat)
-    _assign_paths(tree, PurePosixPath("."))
-    pages = list(_walk(tree))
+    markup = heading_markup(root)
+    tree = nest(flat)
+    assign_paths(tree, PurePosixPath("."))
+    pages = list(walk_pages(tree))
     site_title = _site_title(site)
-    front = _Page(site_title or "Home", 0, 1, preamble) if _visible(preamble) else None
+    front = Page(site_title or "Home", 0, 1, preamble) if visible(preamble) else None
     if front is not None:
         front.rel = PurePosixPath("index.md")
 
@@ -394,7 +267,7 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     if (
         front is None and preamble
     ):  # only invisible things (scripts, comments) before the first heading
-        _, notes = _convert(_Page("", 0, 1, preamble), links, assets)
+        _, notes = _convert(Page("", 0, 1, preamble), links, assets)
         site_warnings.extend(
             f"before the first heading: {m}" + (f" (line {n})" if n else "") for n, m in notes
         )
@@ -449,7 +322,7 @@ def _write_config(dest: Path, title: str, files: dict[str, bytes], report: Impor
         report.warnings.append(f"{CONFIG_NAME}: {note}")
 
 
-def _convert(page: _Page, links: LinkResolver, assets: Assets) -> tuple[str, list[tuple[int, str]]]:
+def _convert(page: Page, links: LinkResolver, assets: Assets) -> tuple[str, list[tuple[int, str]]]:
     """Markdown for one page, and its (line, message) notes; line 0 means page-wide."""
     notes: list[tuple[int, str]] = []
     missing: list[str] = []
@@ -470,7 +343,7 @@ def _convert(page: _Page, links: LinkResolver, assets: Assets) -> tuple[str, lis
     return body, notes
 
 
-def _assign_issues(issues: list[ParseIssue], pages: list[_Page], front: _Page | None):
+def _assign_issues(issues: list[ParseIssue], pages: list[Page], front: Page | None):
     """Give each markup problem to the page whose source it is in (by line)."""
     lines = [p.line for p in pages]
     per_page: dict[int, list[tuple[int, str]]] = {}

@@ -1,4 +1,4 @@
-"""URL construction and the safety rules for anything that reaches a URL.
+"""Group and member repository and site links, and the safety rules for anything in a URL.
 
 Accounts and slugs come from a hand-edited file and end up in `href` attributes
 and host names, so they are checked against a deliberately small character set

@@ -26,12 +26,16 @@ ROOT_DIR = PACKAGE_DIR.parent
 CACHE_FORMAT = 2
 ENGINE_FILES = (
     "world.py",
+    "world_tree.py",
+    "joint_motors.py",
+    "proximity.py",
     "recording.py",
     "render.py",
     "camera.py",  # overview camera and floor trail
     "video.py",
     "plot.py",
     "clip_worker.py",
+    "state_tape.py",
     "sources.py",
     "models/*.py",
     "scenarios/__init__.py",

@@ -1,0 +1,171 @@
+"""Joints of one World in CoppeliaSim's conventions: reading them and driving their motors.
+
+A mixin of sims.world.World, apart from the stepping core so each file says what it holds. A
+joint's angle is reported and commanded in CoppeliaSim's convention (``JointRef.zero`` and
+``sign`` map it to pybullet's); its CoppeliaSim mode (position, velocity, hold = passive,
+spring, free) picks the pybullet motor set up after every (re)build.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING
+
+from sims.models.common import JointRef, SceneModel
+from sims.quiet import pybullet as p
+
+HOLD_FORCE = 1e4  # N or N·m: a kinematic (passive-mode) joint is held where it is set
+
+
+class JointMotors:
+    """Joint reads and motor commands; World supplies the scene and the name lookup."""
+
+    model: SceneModel
+    _joints: dict[str, JointRef]
+    _springs: dict[str, float]  # spring-damper joints: rest position
+    _commands: dict[str, tuple[str, float]]  # last motor command per joint
+
+    if TYPE_CHECKING:  # supplied by World
+
+        @property
+        def _cid(self) -> int: ...
+
+        def _joint(self, handle: int | str) -> JointRef: ...
+
+    def joint_position(self, handle: int | str) -> float:
+        j = self._joint(handle)
+        if j.kind == "spherical":
+            return 0.0
+        q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
+        return j.zero + j.sign * q
+
+    def joint_velocity(self, handle: int | str) -> float:
+        j = self._joint(handle)
+        if j.kind == "spherical":
+            return 0.0
+        return j.sign * p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
+
+    def set_joint_target_position(self, handle: int | str, rad: float) -> None:
+        """Position control, clamped to the joint's CoppeliaSim range. A spring-damper joint
+        takes the target as its spring's rest position."""
+        j = self._joint(handle)
+        if j.kind == "spherical":
+            return
+        if j.lower is not None and j.upper is not None:
+            rad = min(max(rad, j.lower), j.upper)
+        if j.mode == "spring":
+            self._springs[j.name] = rad
+            return
+        self._commands[j.name] = ("position", rad)
+        kw: dict[str, float] = {}
+        if j.max_velocity is not None:
+            kw["maxVelocity"] = j.max_velocity
+        p.setJointMotorControl2(
+            j.body,
+            j.index,
+            p.POSITION_CONTROL,
+            targetPosition=(rad - j.zero) * j.sign,
+            force=HOLD_FORCE if j.mode == "hold" else j.max_force,
+            positionGain=j.position_gain,
+            velocityGain=j.velocity_gain,
+            physicsClientId=self._cid,
+            **kw,
+        )
+
+    def set_joint_target_velocity(self, handle: int | str, rad_s: float) -> None:
+        """Velocity control with the joint's max torque (CoppeliaSim: motor on, position off).
+
+        On a position-controlled joint (the 2W1A arm) this switches it to velocity control
+        until the next set_joint_target_position; CoppeliaSim would instead keep position
+        control and ignore the velocity. Scripts in the course never do this."""
+        j = self._joint(handle)
+        if j.kind == "spherical":
+            return
+        self._springs.pop(j.name, None)
+        self._commands[j.name] = ("velocity", rad_s)
+        p.setJointMotorControl2(
+            j.body,
+            j.index,
+            p.VELOCITY_CONTROL,
+            targetVelocity=rad_s * j.sign,
+            force=j.max_force,
+            physicsClientId=self._cid,
+        )
+
+    def set_joint_max_force(self, handle: int | str, force: float) -> None:
+        """The motor's force/torque limit (CoppeliaSim's setJointMaxForce); the motor keeps
+        its mode and its last target."""
+        j = self._joint(handle)
+        new = dataclasses.replace(j, max_force=force)
+        self._joints[j.name] = new
+        self.model.joints[self.model.joints.index(j)] = new
+        kind, value = self._commands.get(j.name, (None, 0.0))
+        if kind == "velocity":
+            self.set_joint_target_velocity(j.name, value)
+        elif kind == "position":
+            self.set_joint_target_position(j.name, value)
+
+    def set_joint_position(self, handle: int | str, rad: float) -> None:
+        """Put a joint at ``rad`` at once (CoppeliaSim's setJointPosition). A passive-mode
+        joint stays there; a motor keeps its own target."""
+        j = self._joint(handle)
+        if j.kind == "spherical":
+            return
+        p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
+        if j.mode == "hold":
+            self.set_joint_target_position(j.name, rad)
+
+    def _init_motor(self, j: JointRef) -> None:
+        c = self._cid
+        if j.kind == "spherical":  # free, or held where it is (pybullet's default motor off)
+            quat = p.getJointStateMultiDof(j.body, j.index, physicsClientId=c)[0]
+            force = HOLD_FORCE if j.mode == "hold" else 0.0
+            p.setJointMotorControlMultiDof(
+                j.body,
+                j.index,
+                p.POSITION_CONTROL,
+                targetPosition=list(quat),
+                targetVelocity=[0.0, 0.0, 0.0],
+                force=[force] * 3,
+                physicsClientId=c,
+            )
+            return
+        if j.lower is not None and j.upper is not None:
+            a, b = sorted(((j.lower - j.zero) * j.sign, (j.upper - j.zero) * j.sign))
+            p.changeDynamics(
+                j.body, j.index, jointLowerLimit=a, jointUpperLimit=b, physicsClientId=c
+            )
+        if j.mode in ("position", "hold"):
+            target = j.zero if j.initial_target is None else j.initial_target
+            if j.mode == "hold":
+                target = self.joint_position(j.name)
+            self.set_joint_target_position(j.name, target)
+        elif j.mode == "velocity":
+            self.set_joint_target_velocity(j.name, j.initial_velocity)
+        else:  # free or spring: pybullet's default velocity motor replaced by a friction torque
+            p.setJointMotorControl2(
+                j.body,
+                j.index,
+                p.VELOCITY_CONTROL,
+                targetVelocity=0.0,
+                force=j.friction_torque,
+                physicsClientId=c,
+            )
+            if j.mode == "spring":
+                self._springs[j.name] = j.zero if j.initial_target is None else j.initial_target
+
+    def _apply_springs(self) -> None:
+        """Spring-damper joints: torque = -k (q - rest) - c dq/dt, capped at the max force."""
+        for name, rest in self._springs.items():
+            j = self._joints[name]
+            q, dq = p.getJointState(j.body, j.index, physicsClientId=self._cid)[:2]
+            error = rest - (j.zero + j.sign * q)
+            torque = j.spring_k * error - j.spring_c * j.sign * dq
+            torque = max(-j.max_force, min(j.max_force, torque)) if j.max_force > 0 else torque
+            p.setJointMotorControl2(
+                j.body,
+                j.index,
+                p.TORQUE_CONTROL,
+                force=torque * j.sign,
+                physicsClientId=self._cid,
+            )

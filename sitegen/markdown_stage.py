@@ -1,0 +1,122 @@
+"""The Markdown stage of a build: every page's source -> HTML fragment, ids and contents.
+
+A source whose hash the cache knows is not converted again; the misses are converted in
+worker processes when there are many (a cold build), each result going to the fragment
+store (:mod:`sitegen.fragment_store`) as soon as it is made, so the site's HTML is never
+all in memory. The build keeps only each page's ids, table of contents and directives.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from sitegen.cache import Fragments
+from sitegen.fragment_store import FragmentStore, Renders
+from sitegen.nav import Site
+from sitegen.search import record_json, record_parts
+from sitegen.workers import MIN_PARALLEL, run_chunks
+
+_ID = re.compile(r'\sid="([^"]+)"')
+
+
+@dataclass
+class MarkdownStage:
+    """What the stage hands on: url -> Rendered (read from the store on demand), url -> key of
+    the source (for page input keys), url -> (ids, toc), and how many pages it converted."""
+
+    renders: Renders
+    sources: dict[str, str]
+    summaries: dict[str, tuple]
+    converted: int
+
+
+def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> MarkdownStage:
+    """Convert what the cache does not hold; ``frag.markdown`` is left holding exactly the
+    summaries of the sources the site uses now."""
+    from sitegen.markdown_render import RENDER_VERSION, Rendered, plain_text
+
+    held: dict[str, Rendered] = {}
+    sources: dict[str, str] = {}
+    from_store: dict[str, str] = {}
+    summaries: dict[str, tuple] = {}
+    misses: dict[str, tuple[str, str, bool]] = {}  # key -> (key, text, strip first heading)
+    stored = store.keys() if frag.markdown else set()
+    for node in site.order:
+        src = node.source
+        if src is None:  # a folder without index.md: the template lists its children
+            held[node.url] = Rendered("", [], [], "")
+            summaries[node.url] = ([], [])
+            continue
+        if src.body_html is not None:
+            rendered = Rendered(
+                src.body_html, src.toc or [], _ID.findall(src.body_html), plain_text(src.body_html)
+            )
+            held[node.url] = rendered
+            summaries[node.url] = (rendered.ids, rendered.toc)
+            sources[node.url] = hashlib.sha256(src.body_html.encode()).hexdigest()
+            continue
+        key = hashlib.sha256(
+            f"{RENDER_VERSION}\0{node.strip_first_heading}\0{src.text}".encode()
+        ).hexdigest()
+        sources[node.url] = from_store[node.url] = key
+        if key not in frag.markdown or key not in stored:
+            misses.setdefault(key, (key, src.text, node.strip_first_heading))
+
+    def convert(tasks) -> list:
+        made = _convert([(text, strip) for _key, text, strip in tasks])
+        store.put_many((key, r) for (key, _t, _s), r in zip(tasks, made, strict=True))
+        return [(r.ids, r.toc, r.directives) for r in made]
+
+    tasks = list(misses.values())
+    if len(tasks) >= MIN_PARALLEL:  # workers will be forked: give them what is costly to make
+        from sitegen.markdown_render import warm_lexers
+
+        _convert([])  # the renderer is made once, here, and inherited by the workers
+        warm_lexers(text for _key, text, _strip in tasks)
+    done = run_chunks(tasks, convert, recycle=None)
+    for (key, _t, _s), summary in zip(tasks, done, strict=True):
+        frag.markdown[key] = summary
+    used = {key: frag.markdown[key] for key in from_store.values()}
+    for url, key in from_store.items():
+        summaries[url] = used[key][:2]
+    frag.markdown = used
+    return MarkdownStage(Renders(store, from_store, held), sources, summaries, len(tasks))
+
+
+def search_records(site: Site, renders: Renders, batch: int = 256) -> Iterator[str]:
+    """Each page's search record (JSON) in site order. Text and headings come from the small
+    parts the store keeps beside each fragment, read a batch of pages at a time (memory stays
+    flat); a page without them (generated pages, a store written by an older version) is
+    read whole."""
+    order = site.order
+    for start in range(0, len(order), batch):
+        nodes = order[start : start + batch]
+        keys = {
+            n.url: renders.keys_by_url[n.url]
+            for n in nodes
+            if n.url not in renders.held and n.url in renders.keys_by_url
+        }
+        stored = renders.store.search_parts(sorted(set(keys.values())))
+        for n in nodes:
+            parts = stored.get(keys.get(n.url, ""))
+            if parts is None:
+                rendered = renders[n.url]
+                parts = record_parts(rendered.text, rendered.toc)
+            yield record_json(n.title, n.url, [a.title for a in n.ancestors()], parts)
+
+
+def _convert(tasks) -> list:
+    """Convert (Markdown, strip first heading) pairs; one renderer per process, reset per page."""
+    global _RENDERER
+    from sitegen.markdown_render import MarkdownRenderer
+
+    if _RENDERER is None:
+        _RENDERER = MarkdownRenderer()
+    return [_RENDERER.render(text, strip) for text, strip in tasks]
+
+
+_RENDERER: Any = None

@@ -1,0 +1,41 @@
+"""Theme partials for the HTML integrations put into pages: the clip gallery, a clip's figure,
+a roster.
+
+That markup is made before any page is rendered (it becomes a page body or a directive's
+output), so the integrations cannot use the build's page templates directly; they load the
+same theme (a project's ``templates/`` first, then the default) and render a partial from
+``templates/partials/``, so a project overrides the gallery or a roster like any page
+template. Autoescape is on: every name, title and error reaches the HTML escaped.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from markupsafe import Markup
+
+from sitegen.config import Config
+from sitegen.theme import Theme
+
+
+def project_templates(config: Config) -> Path | None:
+    """The project's own template folder, by the rule the build uses (``templates_dir:``, else
+    ``templates/`` beside sitegen.yml; none for a bare folder of Markdown)."""
+    if config.templates_dir:
+        return config.root / config.templates_dir
+    return config.root / "templates" if config.source_file else None
+
+
+class Partials:
+    """Renders ``partials/NAME.html`` of the project's theme; the environment is made once."""
+
+    def __init__(self, config: Config):
+        self.theme = Theme(project_templates(config))
+
+    def render(self, name: str, **context) -> str:
+        return self.theme.render(f"partials/{name}.html", context)
+
+
+def trusted(html: str) -> Markup:
+    """HTML this program made and escaped already (a highlighted listing, a nested partial)."""
+    return Markup(html)

@@ -1,0 +1,139 @@
+"""The site-wide files of a build: special pages, theme assets, search index, sitemap, and
+the content folder's other files, copied as they are.
+
+Each depends on the whole site, so each is made again only when the hash of its inputs
+changed or its output file was touched (:class:`SiteWide`): a one-page edit does not
+re-render a 1000-entry Site Map.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from sitegen.content import SourceTree
+from sitegen.errors import Diagnostics
+from sitegen.markdown_stage import search_records
+from sitegen.nav import Site, full_tree
+from sitegen.output import OutFile, from_bytes
+from sitegen.output import unchanged as output_unchanged
+from sitegen.pages import Menus, sitemap_xml, special_pages
+from sitegen.search import write_search_script
+from sitegen.theme import Theme
+
+if TYPE_CHECKING:
+    from sitegen.build_inputs import Inputs
+
+
+@dataclass
+class SiteWide:
+    """Generated files that depend on the whole site (Site Map, search page, theme assets):
+    made again only when their inputs' hash changed or the output file was touched."""
+
+    output: Path
+    manifest: dict[str, list]
+    old: dict[str, tuple[str, dict[str, str]]]
+    salt: str  # theme digest and library versions
+    new: dict[str, tuple[str, dict[str, str]]] = field(default_factory=dict)
+
+    def add(self, files: dict[str, OutFile], name: str, inputs: str, make) -> None:
+        key = hashlib.sha256(f"{self.salt}\0{inputs}".encode()).hexdigest()
+        old = self.old.get(name)
+        if (
+            old
+            and old[0] == key
+            and all(
+                output_unchanged(self.output, rel, self.manifest, digest)
+                for rel, digest in old[1].items()
+            )
+        ):
+            for rel, digest in old[1].items():
+                files[rel] = OutFile(digest, source=self.output / rel)
+            self.new[name] = old
+            return
+        made = {rel: from_bytes(data) for rel, data in make().items()}
+        files.update(made)
+        self.new[name] = (key, {rel: f.digest for rel, f in made.items()})
+
+
+def site_files(
+    base_url: str,
+    tree: SourceTree,
+    content_name: str,
+    theme: Theme,
+    site: Site,
+    base: dict,
+    menus: Menus,
+    renders,
+    files: dict[str, OutFile],
+    diags: Diagnostics,
+    reuse: SiteWide,
+    scratch: Path,
+) -> None:
+    """Add the site-wide files to ``files``; a content file clashing with one is an error."""
+    reuse.add(
+        files,
+        "pages",
+        repr((base, full_tree(site))),
+        lambda: special_pages(theme, site, base, menus),
+    )
+    reuse.add(files, "assets", "", theme.assets)
+    index = scratch / "assets" / "search-index.js"
+    index.parent.mkdir(parents=True, exist_ok=True)
+    digest = write_search_script(index, search_records(site, renders))
+    files["assets/search-index.js"] = OutFile(digest, source=index, move=True)
+    files[".nojekyll"] = from_bytes(b"")
+    if base_url:
+        files["sitemap.xml"] = from_bytes(sitemap_xml(site, base_url))
+    for asset in tree.assets:
+        rel = str(asset.rel)
+        if rel in files:
+            diags.error(f"{content_name}/{rel}", None, "", f"clashes with a generated file '{rel}'")
+            continue
+        files[rel] = OutFile(asset.digest, source=asset.path)
+
+
+def make_site_files(
+    inp: Inputs,
+    site,
+    md,
+    targets,
+    handlers: dict,
+    base: dict,
+    menus,
+    frag,
+    files: dict[str, OutFile],
+    diags: Diagnostics,
+    scratch: Path,
+):
+    """Stage 5: the integrations' files made from the rendered site (slide decks, blog index,
+    tags, feed), then the site-wide files. Returns the site-wide files' cache entries."""
+    from sitegen.build_inputs import code_digest
+    from sitegen.integrations import Built
+
+    name = inp.content_root.name
+    built = Built(site, md.renders, targets, handlers, inp.theme, base, menus, name)
+    for integ in inp.integrations:
+        for rel, data in integ.site_files(built, diags).items():
+            if rel in files:
+                diags.error(rel, None, "", "a generated file has the same path as a page")
+            files[rel] = from_bytes(data)
+    salt = f"{inp.theme_digest}\0{code_digest()}"
+    reuse = SiteWide(inp.output, inp.state.manifest, frag.site_wide, salt)
+    site_files(
+        inp.config.base_url,
+        inp.tree,
+        name,
+        inp.theme,
+        site,
+        base,
+        menus,
+        md.renders,
+        files,
+        diags,
+        reuse,
+        scratch,
+    )
+    return reuse
