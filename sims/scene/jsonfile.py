@@ -9,6 +9,7 @@ every field name and says which object and field is wrong; it never evaluates an
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import types
 import typing
@@ -101,11 +102,26 @@ if __name__ == "__main__":
     raise SystemExit(main())
 
 
+@functools.cache
+def _fields(cls: Any) -> tuple[dict[str, Any], frozenset[str]]:
+    """A model class's field types and names, worked out once per class (a scene has thousands
+    of values and a few dozen records: resolving the hints each time was most of a load)."""
+    return typing.get_type_hints(cls, vars(M)), frozenset(f.name for f in dataclasses.fields(cls))
+
+
+def _numbers(kind: type, data: list) -> tuple | None:
+    """A whole vertex or index list at once when every item is of the right kind; None sends
+    the list through the item-by-item path, which names the bad item."""
+    ok = (int, float) if kind is float else (int,)
+    if all(type(v) in ok for v in data):  # type() also refuses bool, as the slow path does
+        return tuple(map(kind, data))
+    return None
+
+
 def _build(cls: Any, data: Any, where: str) -> Any:
     if not isinstance(data, dict):
         raise SceneJSONError(f"{where}: expected an object")
-    hints = typing.get_type_hints(cls, vars(M))
-    names = {f.name for f in dataclasses.fields(cls)}
+    hints, names = _fields(cls)
     unknown = sorted(set(data) - names)
     if unknown:
         raise SceneJSONError(f"{where}: unknown field {unknown[0]!r}")
@@ -130,6 +146,10 @@ def _value(hint: Any, data: Any, where: str) -> Any:
         if not isinstance(data, list):
             raise SceneJSONError(f"{where}: expected a list")
         if len(args) == 2 and args[1] is Ellipsis:
+            if args[0] in (float, int):
+                fast = _numbers(args[0], data)
+                if fast is not None:
+                    return fast
             return tuple(_value(args[0], v, f"{where}[{i}]") for i, v in enumerate(data))
         if len(args) != len(data):
             raise SceneJSONError(f"{where}: expected {len(args)} values")
