@@ -6,12 +6,14 @@ shipped 2W1A description are loaded from data/scenes/.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared
 
 from sims.quiet import pybullet as p
 from sims.scene.jsonfile import SceneJSONError, dumps, read_json
@@ -494,3 +496,38 @@ def test_the_floor_outline_is_not_drawn_over_the_floor(renderer):
         used = w.renderer
     black = (rgb.max(axis=2) < 8).sum()
     assert black < 30, f"{black} black pixels ({used})"
+
+
+def test_proximity_sensors_see_only_detectable_shapes():
+    """CoppeliaSim's models keep their respondable shapes undetectable (special property bits
+    clear) and their visible shapes detectable: a sensor sees through the first."""
+    objects = (
+        floor(),
+        box(2, "hidden_wall", (0.5, 0, 0.1), (0.1, 1, 0.2), detectable=False),
+        box(3, "seen_wall", (1.0, 0, 0.1), (0.1, 1, 0.2)),
+        SceneObject(
+            4,
+            "eye",
+            "proximity_sensor",
+            pose=Pose((0, 0, 0.1), q_axis((0, 1, 0), math.pi / 2)),
+            proximity_sensor=ProximitySensorData(range=2.0),
+        ),
+    )
+    with World(Scene(objects=objects)) as w:
+        assert w.proximity("eye") == pytest.approx(0.95, abs=0.01)
+    seen = dataclasses.replace(objects[1], detectable=True)
+    with World(Scene(objects=(objects[0], seen, *objects[2:]))) as w:
+        assert w.proximity("eye") == pytest.approx(0.45, abs=0.01)
+
+
+def test_course_scenes_read_which_shapes_are_detectable():
+    pioneer = open_scene(shared("data", "scenes", "course", "Pioneer_p3dx.ttt"))
+    kinds = {o.name: o.detectable for o in pioneer.objects if o.kind == "shape"}
+    assert kinds["Pioneer_p3dx_leftWheel"] is False  # respondable: Omp 0
+    assert kinds["Pioneer_p3dx_leftWheel_visible"] is True
+    assert kinds["ResizableFloor_5_25_element"] is False
+    xml = shared("data", "scenes", "course", "fanuc_m710ic_50_pick_and_place.simscene.xml")
+    ttt = xml.with_name("fanuc_m710ic_50_pick_and_place.ttt")
+    assert {o.name: o.detectable for o in open_scene(xml).objects} == {
+        o.name: o.detectable for o in open_scene(ttt).objects
+    }

@@ -273,6 +273,8 @@ def _materials(c: int, uid: int, body: Body, parts: list) -> None:
         )
         respondable = any(pt.respondable for r, _, pt, _ in parts if r == row)
         group, mask = collision_group(respondable, body.fixed and planned == 0)
+        if not any(o.detectable for r, _, _, o in parts if r == row):
+            mask &= ~S.RAY  # proximity sensors' rays pass through it, as in CoppeliaSim
         p.setCollisionFilterGroupMask(uid, row, group, mask, physicsClientId=c)
 
 

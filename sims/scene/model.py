@@ -196,7 +196,9 @@ class SceneObject:
     "vision_sensor", "force_sensor", "camera", "light", "graph", "path", "octree",
     "point_cloud", "mirror", "mill", or "unknown" (``raw_type`` set when the file gives a type
     number; the notes say what the object was). ``visible``: on one of the layers 1-8
-    CoppeliaSim shows by default. Exactly one of the
+    CoppeliaSim shows by default. ``detectable``: proximity sensors can see it (any of the
+    object's ultrasonic, infrared, laser, inductive, capacitive flags; CoppeliaSim's models keep
+    their respondable shapes undetectable and their visible shapes detectable). Exactly one of the
     ``*_data`` fields matches ``kind`` (None for kinds without data). ``name`` is the old-style
     unique name ("leftMotor#0" style); ``alias`` the 4.x alias ("" before 4.2)."""
 
@@ -208,6 +210,7 @@ class SceneObject:
     alias: str = ""
     visible: bool = True
     model_base: bool = False
+    detectable: bool = True
     raw_type: int | None = None
     shape: ShapeData | None = None
     joint: JointData | None = None

@@ -291,6 +291,7 @@ def _read_object(
         alias=common.alias,
         visible=bool(common.layer & 0xFF),
         model_base=common.model_base,
+        detectable=common.detectable,
         raw_type=raw_type,
         **extra,  # type: ignore[arg-type]
     )

@@ -62,6 +62,7 @@ LINK_TYPES = {
     4: "gcs_target",
     5: "ik_tip_target",
 }
+DETECTABLE_BITS = 0x1F0  # ultrasonic, infrared, laser, inductive, capacitive
 DYN_MODES = {0: "velocity", 1: "force", 2: "velocity", 3: "position", 4: "spring"}
 
 
@@ -76,6 +77,7 @@ class Common:
         self.pose = Pose()
         self.model_base = False
         self.layer = 1
+        self.detectable = True
 
     def read(self, buf: bytes, chunks: list[Chunk]) -> None:
         for c in chunks:
@@ -94,6 +96,8 @@ class Common:
                 self.model_base = bit(f.u8(), 0)
             elif c.name == "Lar":
                 self.layer = f.u16()
+            elif c.name == "Omp":  # special properties: bits 4-8 detectable by a sensor type
+                self.detectable = bool(f.i32() & DETECTABLE_BITS)
 
 
 def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:

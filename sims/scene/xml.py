@@ -230,6 +230,7 @@ class _Reader:
             alias=text(common, "alias", "") or "",
             visible=bool(layer & 0xFF),
             model_base=flag(common, "switches/modelBase", False),
+            detectable=_detectable(common),
             **extra,  # type: ignore[arg-type]
         )
 
@@ -381,3 +382,22 @@ def _force_sensor(el: ET.Element) -> ForceSensorData:
 
 def read_xml_file(path: Path) -> Scene:
     return read_xml(path.read_bytes(), str(path))
+
+
+DETECTABLE_TAGS = (
+    "detectable",
+    "ultrasonicDetectable",
+    "infraredDetectable",
+    "laserDetectable",
+    "inductiveDetectable",
+    "capacitiveDetectable",
+)
+
+
+def _detectable(common: ET.Element | None) -> bool:
+    """Whether proximity sensors see the object: any detectable flag of its special properties
+    (an object that does not say is detectable, as CoppeliaSim's shapes are by default)."""
+    props = common.find("localObjectSpecialProperty") if common is not None else None
+    if props is None or not any(props.find(t) is not None for t in DETECTABLE_TAGS):
+        return True
+    return any(flag(props, t, False) for t in DETECTABLE_TAGS)
