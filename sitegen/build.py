@@ -68,7 +68,7 @@ def resolve_paths(opts: BuildOptions) -> tuple[Config, Path, Path, Path]:
         )
     config = load_config(source)
     project = config.source_file is not None
-    content = (source / config.content_dir) if project else source
+    content = config.content_path
     if not content.is_dir():
         raise BuildError(
             "no content", [Diagnostic(str(content), None, "content_dir", "folder not found")]
@@ -200,11 +200,7 @@ def read_inputs(opts: BuildOptions, paths: tuple, diags: Diagnostics) -> Inputs 
     those of the last build, whose output is intact)."""
     config, content_root, output, cache_dir = paths
     state = State() if opts.clean else Cache(cache_dir).load_state()
-    theme = Theme(
-        (config.root / config.templates_dir)
-        if config.templates_dir
-        else (config.root / "templates" if config.source_file else None)
-    )
+    theme = Theme(config.templates_path)
     theme_digest = theme.digest()
     integrations = make_integrations(config, cache_dir, opts)
     rest = _rest_digest(config, theme_digest, integrations)

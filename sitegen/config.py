@@ -103,6 +103,20 @@ class Config:
     source_file: Path | None = None
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
+    @property
+    def content_path(self) -> Path:
+        """Where the pages are: ``content_dir`` of a project, the folder itself for a bare
+        folder of Markdown (no sitegen.yml)."""
+        return self.root / self.content_dir if self.source_file else self.root
+
+    @property
+    def templates_path(self) -> Path | None:
+        """The project's own template folder: ``templates_dir:``, else ``templates/`` beside
+        sitegen.yml; none for a bare folder of Markdown (the default theme only)."""
+        if self.templates_dir:
+            return self.root / self.templates_dir
+        return self.root / "templates" if self.source_file else None
+
 
 # ---------------------------------------------------------------- schema checking
 

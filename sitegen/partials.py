@@ -10,27 +10,17 @@ template. Autoescape is on: every name, title and error reaches the HTML escaped
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from markupsafe import Markup
 
 from sitegen.config import Config
 from sitegen.theme import Theme
 
 
-def project_templates(config: Config) -> Path | None:
-    """The project's own template folder, by the rule the build uses (``templates_dir:``, else
-    ``templates/`` beside sitegen.yml; none for a bare folder of Markdown)."""
-    if config.templates_dir:
-        return config.root / config.templates_dir
-    return config.root / "templates" if config.source_file else None
-
-
 class Partials:
     """Renders ``partials/NAME.html`` of the project's theme; the environment is made once."""
 
     def __init__(self, config: Config):
-        self.theme = Theme(project_templates(config))
+        self.theme = Theme(config.templates_path)
 
     def render(self, name: str, **context) -> str:
         return self.theme.render(f"partials/{name}.html", context)

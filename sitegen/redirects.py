@@ -130,10 +130,6 @@ class RedirectIntegration(Integration):
         self.history_file = cache_dir / HISTORY_FILE
         self.urls: dict[str, str] | None = None  # content file -> URL, set by site_files
 
-    def _content_root(self) -> Path:
-        root = self.config.root
-        return root / self.config.content_dir if self.config.source_file else root
-
     def _history(self) -> dict[str, str]:
         try:
             raw = json.loads(self.history_file.read_text(encoding="utf-8"))
@@ -149,7 +145,7 @@ class RedirectIntegration(Integration):
             src = node.source
             if src is None or not src.meta.get("aliases"):
                 continue
-            lines = alias_lines(self._content_root() / src.rel, src.body_line)
+            lines = alias_lines(self.config.content_path / src.rel, src.body_line)
             file = f"{built.content_name}/{src.rel}"
             for raw in src.meta["aliases"]:
                 path, _ = alias_path(raw)

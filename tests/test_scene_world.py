@@ -313,6 +313,17 @@ def test_dynamic_shape_under_a_dynamic_shape_is_a_separate_body():
         assert w.object_pose("label")[0][2] == pytest.approx(0.06, abs=0.005)
 
 
+def eye(handle=4):
+    """A 2 m proximity sensor 0.1 m above the origin, looking along +x."""
+    return SceneObject(
+        handle,
+        "eye",
+        "proximity_sensor",
+        pose=Pose((0, 0, 0.1), q_axis((0, 1, 0), math.pi / 2)),
+        proximity_sensor=ProximitySensorData(range=2.0),
+    )
+
+
 def test_non_respondable_shapes_fall_through_but_sensors_see_them():
     ghost = Dynamics(static=False, respondable=False, mass=1.0, inertia=(0.01,) * 3)
     objects = (
@@ -325,13 +336,7 @@ def test_non_respondable_shapes_fall_through_but_sensors_see_them():
             (0.1, 1, 0.2),
             dynamics=Dynamics(static=True, respondable=False),
         ),
-        SceneObject(
-            4,
-            "eye",
-            "proximity_sensor",
-            pose=Pose((0, 0, 0.1), q_axis((0, 1, 0), math.pi / 2)),
-            proximity_sensor=ProximitySensorData(range=2.0),
-        ),
+        eye(),
     )
     with World(Scene(objects=objects)) as w:
         assert w.proximity("eye") == pytest.approx(0.95, abs=0.01)
@@ -505,13 +510,7 @@ def test_proximity_sensors_see_only_detectable_shapes():
         floor(),
         box(2, "hidden_wall", (0.5, 0, 0.1), (0.1, 1, 0.2), detectable=False),
         box(3, "seen_wall", (1.0, 0, 0.1), (0.1, 1, 0.2)),
-        SceneObject(
-            4,
-            "eye",
-            "proximity_sensor",
-            pose=Pose((0, 0, 0.1), q_axis((0, 1, 0), math.pi / 2)),
-            proximity_sensor=ProximitySensorData(range=2.0),
-        ),
+        eye(),
     )
     with World(Scene(objects=objects)) as w:
         assert w.proximity("eye") == pytest.approx(0.95, abs=0.01)
