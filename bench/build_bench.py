@@ -15,6 +15,13 @@ Measured, every run cold (output folder AND cache removed first, for every tool)
 * peak memory of a sitegen cold build at ``--memory-pages`` pages (default 5000): the largest
   total memory (proportional set size, shared pages counted once) of its whole process tree,
   workers included, sampled every 10 ms; at least the largest single process's peak RSS.
+
+What "cold" keeps: each tool's own caches and output are removed before every cold run, but the
+tools themselves are installed as a user has them. For the Python tools (sitegen, MkDocs) that
+means compiled bytecode, which ``pip install`` writes at install time: the bench runs them with
+``PYTHONDONTWRITEBYTECODE`` unset and ``PYTHONPYCACHEPREFIX`` under ``bench/_work`` (so nothing is
+written into the repository), after one untimed warm-up run of every tool (which also fills the
+operating system's file cache for every tool alike).
 """
 
 from __future__ import annotations
@@ -41,10 +48,12 @@ PROSE = (
     "機構模擬使用 CoppeliaSim 與 pybullet, 馬達以位置控制驅動手臂. "
     "產品簡化後重新繪製 2D 工程圖與 3D 爆炸圖, 並以影片說明組裝流程. "
 )
+#: One code block per page, different on every page (a build may reuse the highlighting of a
+#: block it has seen: identical blocks on every page would flatter it).
 CODE = (
     "```python\nimport sim as vrep\n"
-    "clientID = vrep.simxStart('127.0.0.1', 19997, True, True, 5000, 5)\n"
-    "for i in range(3):\n    print(i * 2)\n```\n"
+    "clientID = vrep.simxStart('127.0.0.1', {port}, True, True, 5000, 5)\n"
+    "for i in range({n}):\n    print(i * {k}, 'w{w}-{i}')\n```\n"
 )
 TABLE = (
     "| 項目 | 數值 | 說明 |\n|---|---|---|\n"
@@ -77,7 +86,8 @@ def make_corpus(root: Path, pages: int = 1000, weeks: int = 18, seed: int = 1) -
             body = [f"# 第 {w} 週 頁面 {i + 1}\n"]
             for h in range(3):
                 body.append(f"## 小節 {h + 1}\n\n" + PROSE * rng.randint(2, 5))
-                body.append(CODE if h == 1 else TABLE)
+                code = CODE.format(port=19997 + i, n=h + w, k=i + 2, w=w, i=i)
+                body.append(code if h == 1 else TABLE)
             path = wdir / f"page-{i + 1:03d}.md"
             path.write_text("\n".join(body), encoding="utf-8")
             files.append(path)
@@ -114,7 +124,9 @@ def timed(cmd: list[str], cwd: Path | None = None) -> tuple[float, float]:
     """Run a command; return (seconds, peak MB: the largest total memory of its process tree
     seen every 10 ms, or the largest single process's peak if that is more)."""
     start = time.perf_counter()
-    proc = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=installed_env()
+    )
     peak, done = [0.0], threading.Event()
 
     def sample() -> None:
@@ -130,6 +142,15 @@ def timed(cmd: list[str], cwd: Path | None = None) -> tuple[float, float]:
     if os.waitstatus_to_exitcode(status) != 0:
         raise SystemExit(f"failed: {' '.join(cmd)}\n{proc.stderr.read().decode()[-2000:]}")
     return seconds, max(peak[0], usage.ru_maxrss / 1024)
+
+
+def installed_env() -> dict[str, str]:
+    """The environment of every timed command: Python tools keep their compiled bytecode, as
+    an installed package does (see the module's docstring)."""
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env["PYTHONPYCACHEPREFIX"] = str(WORK / "pycache")
+    return env
 
 
 _TITLE = re.compile(r"^#\s+(.+)$", re.M)
@@ -212,17 +233,20 @@ class Runner:
     times: list[float] = field(default_factory=list)
     mems: list[float] = field(default_factory=list)
 
-    def run(self) -> None:
+    def run(self, record: bool = True) -> None:
         for path in self.clear:
             shutil.rmtree(path, ignore_errors=True)
         secs, mem = timed(self.cmd, self.cwd)
-        self.times.append(secs)
-        self.mems.append(mem)
+        if record:
+            self.times.append(secs)
+            self.mems.append(mem)
 
     def shell(self) -> str:
         rm = f"rm -rf {' '.join(shlex.quote(str(p)) for p in self.clear)} && " if self.clear else ""
         cd = f"cd {shlex.quote(str(self.cwd))} && " if self.cwd else ""
-        return f"{rm}{cd}{shlex.join(self.cmd)}"
+        prefix = shlex.quote(str(WORK / "pycache"))
+        env = f"env -u PYTHONDONTWRITEBYTECODE PYTHONPYCACHEPREFIX={prefix} "
+        return f"{rm}{cd}{env}{shlex.join(self.cmd)}"
 
 
 def sitegen_cmd(corpus: Path, out: Path) -> list[str]:
@@ -272,6 +296,8 @@ def main() -> int:
             runners.append(Runner("mkdocs", cmd, [dest], site))
         else:
             print("mkdocs not installed: pip install -e .[bench]", file=sys.stderr)
+    for runner in runners:  # warm-up, not timed: bytecode compiled, files in the OS cache
+        runner.run(record=False)
     for r in range(args.rounds):  # interleaved, the order rotating each round
         k = r % len(runners)
         for runner in runners[k:] + runners[:k]:

@@ -32,6 +32,8 @@ class JointMotors:
 
         def _joint(self, handle: int | str) -> JointRef: ...
 
+        def moved(self) -> None: ...
+
     def joint_position(self, handle: int | str) -> float:
         j = self._joint(handle)
         if j.kind == "spherical":
@@ -112,6 +114,7 @@ class JointMotors:
         if j.kind == "spherical":
             return
         p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
+        self.moved()  # proximity readings see the new pose
         if j.mode == "hold":
             self.set_joint_target_position(j.name, rad)
 

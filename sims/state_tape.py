@@ -64,3 +64,4 @@ def apply_state(world: World, layout: Layout, state: np.ndarray) -> None:
         for j in joints:
             p.resetJointState(body, j, float(state[i]), physicsClientId=c)
             i += 1
+    world.moved()  # proximity readings see the new state

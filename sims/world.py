@@ -52,6 +52,7 @@ class World(JointMotors):
         timestep: float = 0.005,
         *,
         render_with: str | None = None,
+        sensors: str = "lazy",
         **scene_options: Any,
     ):
         """``render_with``: "egl" or "auto" loads pybullet's EGL renderer plugin *before* the
@@ -59,7 +60,10 @@ class World(JointMotors):
         TinyRenderer if it fails; None/"tinyrenderer" uses TinyRenderer.
 
         ``scene``: a bundled scene name, a scene file path or a loaded Scene model; a file is
-        read once (``reset()`` rebuilds from the loaded model)."""
+        read once (``reset()`` rebuilds from the loaded model).
+
+        ``sensors``: when proximity sensors are cast: "lazy" (at a read) or "main-script" (every
+        pass, as CoppeliaSim's main script handles them; sims/proximity.py)."""
         from sims.scene.resolve import open_scene
 
         self.source = open_scene(scene) if isinstance(scene, (str, Path)) else scene
@@ -67,6 +71,7 @@ class World(JointMotors):
         self.seed = seed
         self.timestep = timestep
         self.scene_options = dict(scene_options)
+        self.sensors = sensors
         self.time = 0.0
         self.steps = 0  # physics steps since (re)start
         self._hooks: list[StepHook] = []
@@ -100,7 +105,7 @@ class World(JointMotors):
             self.model = build(self.source, c, self.seed, **self.scene_options)
         self._objects: dict[str, ObjectRef] = {o.name: o for o in self.model.objects}
         self._joints: dict[str, JointRef] = {j.name: j for j in self.model.joints}
-        self._proximity = ProximitySensors(self, self.model)
+        self._proximity = ProximitySensors(self, self.model, self.sensors)
         self._sensors: dict[str, ProxSensor] = self._proximity.by_name
         self._tree = make_tree(self.model, c)
         self._names = [e.name for e in self._tree]
@@ -158,6 +163,7 @@ class World(JointMotors):
             p.stepSimulation(physicsClientId=self._cid)
             self.steps += 1
             self.time = self.steps * self.timestep
+            self._proximity.stepped()
             for hook in list(self._hooks):
                 hook(self)
 
@@ -272,6 +278,15 @@ class World(JointMotors):
         return math.atan2(fy, fx)
 
     # -- sensors and contacts ----------------------------------------------------------------
+    @property
+    def proximity_sensors(self) -> ProximitySensors:
+        """The proximity sensors: handling and kept results (sims/proximity.py)."""
+        return self._proximity
+
+    def moved(self) -> None:
+        """Something was put somewhere between steps: lazy sensor readings are cast again."""
+        self._proximity.forget()
+
     def sensor_hits(self, name: str) -> list[Hit | None]:
         """Each ray of a proximity sensor: None, or (distance from the sensor origin, point and
         normal in the sensor frame, body, link). The sensor frame's z is its sensing axis."""

@@ -213,12 +213,14 @@ class BlogIntegration(Integration):
     # -- after the pages: the other index pages, tags, archive, feed -------------------------
 
     def site_files(self, built: Built, diags: Diagnostics) -> dict[str, bytes]:
-        from sitegen.blog_feed import atom_feed
-        from sitegen.pages import render_page, root_prefix
-
         section = built.site.by_dir.get(self.dir)
         if section is None or not self.meta:
             return {}
+        # only here: the feed's XML escaping imports urllib.request (~50 ms) a site without a
+        # blog need not pay for
+        from sitegen.blog_feed import atom_feed
+        from sitegen.pages import render_page, root_prefix
+
         posts = self._posts(section)
         base = section.url.rsplit("/", 1)[0]
         home = {"title": built.site.root.title, "url": built.site.root.url}

@@ -137,7 +137,7 @@ def _build(opts: BuildOptions, paths: tuple[Config, Path, Path, Path]) -> BuildR
     from sitegen.fragment_store import FragmentStore
     from sitegen.i18n import strings
     from sitegen.links import LinkTargets
-    from sitegen.markdown_stage import render_markdown
+    from sitegen.markdown_stage import render_markdown, used_blocks
     from sitegen.page_jobs import links_digest, render_pages
     from sitegen.pages import site_context
     from sitegen.site_files import make_site_files
@@ -188,7 +188,7 @@ def _build(opts: BuildOptions, paths: tuple[Config, Path, Path, Path]) -> BuildR
     frag.pages = new_pages
     frag.site_wide = reuse.new
     cache.save_fragments(frag)
-    store.keep_only(set(frag.markdown))
+    store.keep_only(set(frag.markdown), used_blocks(frag))
     store.close()
     report.seconds = time.perf_counter() - started
     return report

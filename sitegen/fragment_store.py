@@ -28,6 +28,8 @@ _SCHEMA = (
     # the page's search record parts (sitegen.search.record_parts): the index is written
     # from these small strings, not from every page's pickled HTML
     "CREATE TABLE IF NOT EXISTS search (key TEXT PRIMARY KEY, text TEXT, headings TEXT)",
+    # highlighted code blocks by content (sitegen.highlight_cache)
+    "CREATE TABLE IF NOT EXISTS highlight (key TEXT PRIMARY KEY, html TEXT NOT NULL)",
 )
 
 
@@ -75,8 +77,20 @@ class FragmentStore:
             raise KeyError(key)
         return pickle.loads(row[0])
 
-    def put_many(self, items: Iterable[tuple[str, Any]]) -> None:
-        """Store ``(key, Rendered)`` pairs, each with its search record parts."""
+    def highlighted(self, key: str) -> str | None:
+        """A highlighted code block's HTML, or None (sitegen.highlight_cache's lookup)."""
+        try:
+            row = self._conn().execute("SELECT html FROM highlight WHERE key = ?", (key,))
+            found = row.fetchone()
+        except sqlite3.DatabaseError:
+            return None
+        return None if found is None else found[0]
+
+    def put_many(
+        self, items: Iterable[tuple[str, Any]], blocks: Mapping[str, str] | None = None
+    ) -> None:
+        """Store ``(key, Rendered)`` pairs, each with its search record parts, and the code
+        blocks highlighted meanwhile (``blocks``: key -> HTML)."""
         rows, parts = [], []
         for key, rendered in items:
             rows.append((key, pickle.dumps(rendered, protocol=pickle.HIGHEST_PROTOCOL)))
@@ -86,6 +100,8 @@ class FragmentStore:
         try:
             db.executemany("INSERT OR REPLACE INTO fragment VALUES (?, ?)", rows)
             db.executemany("INSERT OR REPLACE INTO search VALUES (?, ?, ?)", parts)
+            if blocks:
+                db.executemany("INSERT OR REPLACE INTO highlight VALUES (?, ?)", blocks.items())
             db.execute("COMMIT")
         except BaseException:
             db.execute("ROLLBACK")
@@ -103,14 +119,19 @@ class FragmentStore:
             found.update((k, (t, h)) for k, t, h in db.execute(query, batch))
         return found
 
-    def keep_only(self, keys: set[str]) -> None:
-        """Forget every fragment no page uses any more."""
+    def keep_only(self, keys: set[str], blocks: set[str] | None = None) -> None:
+        """Forget every fragment no page uses any more, and (``blocks`` given) every
+        highlighted code block none of them holds."""
         stale = self.keys() - keys
-        if stale:
-            db = self._conn()
+        db = self._conn()
+        old_blocks: set[str] = set()
+        if blocks is not None:
+            old_blocks = {r[0] for r in db.execute("SELECT key FROM highlight")} - blocks
+        if stale or old_blocks:
             db.execute("BEGIN IMMEDIATE")
             db.executemany("DELETE FROM fragment WHERE key = ?", [(k,) for k in stale])
             db.executemany("DELETE FROM search WHERE key = ?", [(k,) for k in stale])
+            db.executemany("DELETE FROM highlight WHERE key = ?", [(k,) for k in old_blocks])
             db.execute("COMMIT")
 
     def clear(self) -> None:

@@ -17,10 +17,20 @@ from typing import Any
 import markdown
 import pygments
 from markdown.extensions import Extension, codehilite
+from markdown.extensions.admonition import AdmonitionExtension
+from markdown.extensions.attr_list import AttrListExtension
+from markdown.extensions.codehilite import CodeHiliteExtension
+from markdown.extensions.def_list import DefListExtension
+from markdown.extensions.fenced_code import FencedCodeExtension
+from markdown.extensions.md_in_html import MarkdownInHtmlExtension
+from markdown.extensions.sane_lists import SaneListExtension
+from markdown.extensions.tables import TableExtension
+from markdown.extensions.toc import TocExtension
 from markdown.preprocessors import Preprocessor
-from pygments.lexers import get_lexer_by_name
+from pygments.lexers import find_lexer_class_by_name, get_lexer_by_name
 from pygments.util import ClassNotFound
 
+from sitegen.highlight_cache import BLOCKS, LazyLexer
 from sitegen.markdown_speed import (
     LinearBlocksExtension,
     LinearFootnotesExtension,
@@ -52,6 +62,8 @@ class Rendered:
     ids: list[str]  # every id in the fragment (anchor targets)
     text: str  # plain text for search
     directives: list[tuple[str, str, int]] = field(default_factory=list)  # (name, arg, line)
+    #: keys of its highlighted code blocks in the store (sitegen.highlight_cache)
+    highlights: tuple[str, ...] = ()
 
 
 class _Directives(Preprocessor):
@@ -91,17 +103,19 @@ _LANG = re.compile(r"^[ \t]*(?:```|~~~)[ \t]*\{?[ \t]*\.?([\w+#.-]+)", re.M)
 
 
 def cached_lexer(alias: str, **options: Any) -> Any:
-    """``get_lexer_by_name`` for codehilite, one lexer per language and options.
+    """``get_lexer_by_name`` for codehilite, one (lazy) lexer per language and options.
 
     Pygments looks a name up by scanning its whole table of ~600 lexers, and an unknown
     name also by asking every installed plugin; codehilite did that for every code block
     (a tenth of a cold build). A lexer keeps no state between ``get_tokens`` calls, so one
-    instance serves every block of its language; the output is the same."""
+    instance serves every block of its language; the output is the same. The instance is a
+    :class:`~sitegen.highlight_cache.LazyLexer`: a block found in the highlight cache needs no
+    lexer, and making the first one of a language compiles its rules."""
     key = (alias, repr(sorted(options.items())))
     found = _LEXERS.get(key)
     if found is None:
         try:
-            found = get_lexer_by_name(alias, **options)
+            found = LazyLexer(find_lexer_class_by_name(alias), options)
         except ClassNotFound as exc:
             found = str(exc)
         _LEXERS[key] = found
@@ -119,7 +133,8 @@ def warm_lexers(texts: Iterable[str]) -> None:
             get_lexer_by_name(lang).get_tokens("")
 
 
-codehilite.get_lexer_by_name = cached_lexer  # the name codehilite calls, per code block
+codehilite.get_lexer_by_name = cached_lexer  # the names codehilite calls, per code block
+codehilite.highlight = BLOCKS.highlight
 
 
 def _heading_slug(value: str, separator: str) -> str:
@@ -131,37 +146,35 @@ class MarkdownRenderer:
 
     def __init__(self) -> None:
         self._found: list = []
+        # extension objects, not names: a name makes Markdown scan the installed packages'
+        # entry points (~20 ms per process)
         self.md = markdown.Markdown(
             extensions=[
-                "tables",
-                "fenced_code",
+                TableExtension(),
+                FencedCodeExtension(),
                 LinearFootnotesExtension(),
-                "attr_list",
-                "def_list",
-                "sane_lists",
-                "md_in_html",
-                "codehilite",
-                "toc",
+                AttrListExtension(),
+                DefListExtension(),
+                SaneListExtension(),
+                MarkdownInHtmlExtension(),
+                CodeHiliteExtension(
+                    css_class="highlight",
+                    guess_lang=False,
+                    wrapcode=True,
+                    pygments_formatter=cached_formatter,
+                ),
+                TocExtension(
+                    slugify=_heading_slug,
+                    toc_depth="2-6",
+                    permalink="#",
+                    permalink_class="anchor",
+                    permalink_title="",
+                ),
                 DirectiveExtension(self._found),
-                "admonition",  # !!! note|tip|warning "title" (reader, issue 17)
+                AdmonitionExtension(),  # !!! note|tip|warning "title" (reader, issue 17)
                 TabsExtension(),  # === "Windows" content tabs (sitegen/md_tabs.py)
                 LinearBlocksExtension(),  # blocks as a queue: linear in the page's size
             ],
-            extension_configs={
-                "codehilite": {
-                    "css_class": "highlight",
-                    "guess_lang": False,
-                    "wrapcode": True,
-                    "pygments_formatter": cached_formatter,
-                },
-                "toc": {
-                    "slugify": _heading_slug,
-                    "toc_depth": "2-6",
-                    "permalink": "#",
-                    "permalink_class": "anchor",
-                    "permalink_title": "",
-                },
-            },
             output_format="html",
         )
 
@@ -170,11 +183,13 @@ class MarkdownRenderer:
             text = _drop_first_heading(text)
         self._found.clear()
         self.md.reset()
+        BLOCKS.take_used()
         body = self.md.convert(text)
         tokens = getattr(self.md, "toc_tokens", [])
         toc = _toc(tokens)
         ids = re.findall(r'\sid="([^"]+)"', body)
-        return Rendered(body, toc, ids, plain_text(body), list(self._found))
+        blocks = tuple(dict.fromkeys(BLOCKS.take_used()))
+        return Rendered(body, toc, ids, plain_text(body), list(self._found), blocks)
 
 
 def _drop_first_heading(text: str) -> str:

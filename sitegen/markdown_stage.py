@@ -68,10 +68,15 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
 
     def convert(tasks) -> list:
         made = _convert([(text, strip) for _key, text, strip in tasks])
-        store.put_many((key, r) for (key, _t, _s), r in zip(tasks, made, strict=True))
-        return [(r.ids, r.toc, r.directives) for r in made]
+        pairs = ((key, r) for (key, _t, _s), r in zip(tasks, made, strict=True))
+        store.put_many(pairs, BLOCKS.take_new())
+        return [(r.ids, r.toc, r.directives, r.highlights) for r in made]
 
     tasks = list(misses.values())
+    from sitegen.highlight_cache import BLOCKS
+
+    # a cold build's store holds no blocks: asking it for each one would only cost time
+    BLOCKS.lookup = store.highlighted if frag.markdown else None
     if len(tasks) >= MIN_PARALLEL:  # workers will be forked: give them what is costly to make
         from sitegen.markdown_render import warm_lexers
 
@@ -85,6 +90,12 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
         summaries[url] = used[key][:2]
     frag.markdown = used
     return MarkdownStage(Renders(store, from_store, held), sources, summaries, len(tasks))
+
+
+def used_blocks(frag: Fragments) -> set[str]:
+    """Keys of the highlighted code blocks the cached pages hold (summaries written by an
+    older version have none)."""
+    return {block for summary in frag.markdown.values() for block in summary[3:4] and summary[3]}
 
 
 def search_records(site: Site, renders: Renders, batch: int = 256) -> Iterator[str]:

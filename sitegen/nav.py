@@ -123,17 +123,25 @@ def _key(meta: dict, prefix: int | None, name: str) -> tuple:
 def build_site(pages: list[PageInput], home_title: str = "Home") -> Site:
     """Arrange pages into a tree with URLs and document order."""
     # Group pages per folder; every ancestor of a page's folder is a section.
-    dirs: dict[PurePosixPath, list[PageInput]] = {PurePosixPath("."): []}
+    top = PurePosixPath(".")
+    dirs: dict[PurePosixPath, list[PageInput]] = {top: []}
+    parents: dict[PurePosixPath, PurePosixPath] = {}  # pathlib makes a new object per .parent
     for page in sorted(pages, key=lambda p: str(p.rel)):
         d = page.rel.parent
-        dirs.setdefault(d, []).append(page)
-        while d != PurePosixPath("."):
-            d = d.parent
-            dirs.setdefault(d, [])
+        if d in dirs:
+            dirs[d].append(page)
+            continue
+        dirs[d] = [page]
+        while d != top:
+            up = parents[d] = d.parent
+            if up in dirs:
+                break
+            dirs[up] = []
+            d = up
     subdirs: dict[PurePosixPath, list[PurePosixPath]] = {d: [] for d in dirs}
     for d in dirs:
-        if d != PurePosixPath("."):
-            subdirs[d.parent].append(d)
+        if d != top:
+            subdirs[parents[d]].append(d)
 
     by_source: dict[PurePosixPath, Node] = {}
     by_dir: dict[PurePosixPath, Node] = {}
@@ -198,7 +206,7 @@ def build_site(pages: list[PageInput], home_title: str = "Home") -> Site:
         node.children = final
         return node
 
-    root = make_section(PurePosixPath("."), "")
+    root = make_section(top, "")
     order: list[Node] = []
 
     def walk(n: Node) -> None:

@@ -10,6 +10,8 @@ from sims.remote_api import commands as cmd
 
 from .api_core import Context, api
 
+HANDLE_ALL, HANDLE_ALL_EXCEPT_EXPLICIT = -2, -3  # sim.handle_all, sim.handle_all_except_explicit
+
 
 # -- joints ------------------------------------------------------------------------------------
 def _joint_call(c: Context, h: Any, fn: Callable[..., Any], *args: Any) -> Any:
@@ -85,6 +87,23 @@ def read_proximity_sensor(c: Context, h: Any) -> Any:
 
 @api("handleProximitySensor")
 def handle_proximity_sensor(c: Context, h: Any) -> Any:
+    """Cast now (the World's sensors="main-script" mode leaves explicit sensors to this):
+    one sensor, or with sim.handle_all / sim.handle_all_except_explicit every such sensor,
+    reporting the nearest detection of them all, as CoppeliaSim does."""
+    sensors = c.world.proximity_sensors
+    h = c.handle(h)
+    if h in (HANDLE_ALL, HANDLE_ALL_EXCEPT_EXPLICIT):
+        names = sensors.handle_all(except_explicit=h == HANDLE_ALL_EXCEPT_EXPLICIT)
+        found = [(hit[0], n) for n in names if (hit := sensors.nearest(n)) is not None]
+        if not found:
+            return (0, 0.0, [0.0, 0.0, 0.0], -1, [0.0, 0.0, 0.0])
+        return read_proximity_sensor(c, c.world.handle(min(found, key=lambda f: f[0])[1]))
+    try:
+        if c.world.kind(h) != "proximity_sensor":
+            raise cmd.CommandError(f"object {cmd.name(c.world, h)!r} is not a proximity sensor")
+        sensors.handle(cmd.name(c.world, h))
+    except (cmd.CommandError, KeyError) as exc:
+        return c.state.fail(str(exc).strip("'\""))
     return read_proximity_sensor(c, h)
 
 

@@ -95,6 +95,7 @@ class ScriptHost:
         dt = pass_dt or getattr(source, "time_step", 0.05) or 0.05
         self.steps_per_pass = max(1, round(dt / world.timestep))
         self.pass_dt = self.steps_per_pass * world.timestep
+        self._sync_sensing()
         self._status = status
         self.custom: dict[tuple[int, str], bytes] = {}
         self.created: dict[int, dict[str, Any]] = {}
@@ -265,7 +266,16 @@ class ScriptHost:
             if not run.threaded:
                 self._dispatch(run, "sensing")
 
+    def _sync_sensing(self) -> None:
+        """The World handles its proximity sensors (sensors="main-script") at the end of this
+        host's passes, as CoppeliaSim's main script does before the child scripts' sensing."""
+        sensors = getattr(self.world, "proximity_sensors", None)
+        if sensors is not None and sensors.pass_steps != self.steps_per_pass:
+            sensors.pass_steps = self.steps_per_pass
+
     def on_step(self, world: Any) -> None:
+        if world.steps == 1:  # a (re)started world has new sensors
+            self._sync_sensing()
         if not self.started:
             self._steps_seen = world.steps - 1
             self.start()

@@ -94,6 +94,7 @@ class ProxSensor:
     offset_pos: Vec3
     offset_orn: Quat
     rays: tuple[tuple[Vec3, Vec3], ...]
+    explicit: bool = False  # explicit handling: CoppeliaSim's main script leaves it alone
 
 
 @dataclass(frozen=True)

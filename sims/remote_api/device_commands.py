@@ -89,6 +89,7 @@ def set_spherical_matrix(world: Any, handle: int, values: list[float]) -> None:
     rows = (tuple(values[0:3]), tuple(values[4:7]), tuple(values[8:11]))
     quat = g.matrix_to_quat(_orthonormal(rows))  # type: ignore[arg-type]
     p.resetJointStateMultiDof(j.body, j.index, list(quat), physicsClientId=world.client_id)
+    world.moved()  # proximity readings see the new pose
 
 
 def _orthonormal(m: tuple) -> g.Mat:

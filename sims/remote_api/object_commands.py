@@ -178,6 +178,7 @@ def set_frame(
     info = p.getDynamicsInfo(ref.body, -1, physicsClientId=cid)
     com_pos, com_orn = p.multiplyTransforms(link_pos, link_orn, info[3], info[4])
     p.resetBasePositionAndOrientation(ref.body, com_pos, com_orn, physicsClientId=cid)
+    world.moved()  # proximity readings see the new pose
 
 
 def velocity(world: Any, handle: int) -> tuple[g.Vec, g.Vec]:

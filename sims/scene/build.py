@@ -272,7 +272,8 @@ def _model(scene: Scene, plan: _Planner, created: list[Created]) -> SceneModel:
             continue
         offset = mul(inv(frame), plan.full[o.handle])
         if o.kind == "proximity_sensor" and o.proximity_sensor is not None:
-            prox.append(ProxSensor(o.name, uid, row, *offset, sensor_rays.rays(o.proximity_sensor)))
+            ps = o.proximity_sensor
+            prox.append(ProxSensor(o.name, uid, row, *offset, sensor_rays.rays(ps), ps.explicit))
             continue
         objects.append(ObjectRef(o.name, uid, row, *offset))
     for made in created:

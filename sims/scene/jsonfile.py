@@ -112,9 +112,11 @@ def _fields(cls: Any) -> tuple[dict[str, Any], frozenset[str]]:
 def _numbers(kind: type, data: list) -> tuple | None:
     """A whole vertex or index list at once when every item is of the right kind; None sends
     the list through the item-by-item path, which names the bad item."""
-    ok = (int, float) if kind is float else (int,)
-    if all(type(v) in ok for v in data):  # type() also refuses bool, as the slow path does
-        return tuple(map(kind, data))
+    seen = set(map(type, data))  # type() also refuses bool, as the slow path does
+    if seen <= {kind}:
+        return tuple(data)
+    if kind is float and seen <= {int, float}:
+        return tuple(map(float, data))
     return None
 
 

@@ -122,7 +122,9 @@ class JointData:
 class ProximitySensorData:
     """``volume``: "ray", "randomized_ray", "pyramid", "cylinder", "disc", "cone". The sensor
     looks along its frame's +z. ``range`` is the far distance, ``offset`` the near distance,
-    ``angle`` the full opening angle (cone/disc), ``size`` x/y extents where relevant."""
+    ``angle`` the full opening angle (cone/disc), ``size`` x/y extents where relevant.
+    ``explicit``: explicit handling; CoppeliaSim's main script then leaves the sensor to the
+    scripts (sim.handleProximitySensor) instead of handling it every pass."""
 
     volume: str = "ray"
     range: float = 0.1
@@ -130,6 +132,7 @@ class ProximitySensorData:
     angle: float = 0.0
     size: tuple[float, float] = (0.0, 0.0)
     detect_all: bool = False
+    explicit: bool = False
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,8 @@ description shipped as package data in ``sims/scene/bundled/`` (derived from the
 ``2w1a.ttt``; installed with the package, so a wheel behaves as a checkout). A bundled file that
 is missing is an error (an incomplete install), never a silent fall back to the hand-built model.
 Anything else is a scene file path (``.ttt``, ``.simscene.xml``, or the repository's
-``.scene.json``), loaded once per process and file version (loading a scene runs nothing). A
+``.scene.json``), loaded once per process and file version, and a ``.ttt`` or XML file decoded
+once per content across processes (sims/scene/scene_cache.py; loading a scene runs nothing). A
 missing or unreadable file raises :class:`SceneFileError` with a one-line message naming it.
 """
 
@@ -77,11 +78,20 @@ def _load(path: str, mtime_ns: int, size: int) -> Any:
         from sims.scene.jsonfile import read_json
 
         return read_json(Path(path))
+    from sims.scene.scene_cache import load as cached
+
+    try:
+        return cached(path, _decode)  # decoded once per file content (scene_cache.py)
+    except SceneFileError:
+        raise
+    except (OSError, ValueError) as exc:
+        raise SceneFileError(f"{path}: {exc}") from exc
+
+
+def _decode(path: str) -> Any:
+    """Read a .ttt or XML scene (the readers are imported only when a file is decoded)."""
     try:
         from sims.scene.load import load_scene
     except ImportError as exc:  # the readers are not there yet
         raise SceneFileError(f"{path}: scene files cannot be read here ({exc})") from exc
-    try:
-        return load_scene(path)
-    except (OSError, ValueError) as exc:
-        raise SceneFileError(f"{path}: {exc}") from exc
+    return load_scene(path)

@@ -15,7 +15,7 @@ What the file holds (from CoppeliaSim's scene-object serializers; names are chun
   4.4+ ``Dcm`` control mode (0 free, 1 force, 2 velocity, 3 position, 4 spring).
 - proximity sensor: ``Snt`` type (30 pyramid, 31 cylinder, 32 disc, 33 cone, 34 ray), ``Vod``
   the volume (``Ss3``: offset, range, x/y size near and far, radius near and far, angle),
-  ``Pr5`` bit 1 randomized ray.
+  ``Pr4`` bit 7 explicit handling, ``Pr5`` bit 1 randomized ray.
 - vision sensor: ``Res`` resolution, ``Ccp`` ortho size, view angle, near, far; ``Va3`` bit 0
   perspective.
 - dummy: ``Lli`` linked dummy handle (-1: none), ``Dl2`` link type (0 dynamics loop closure, 1
@@ -204,7 +204,7 @@ def read_dummy(buf: bytes, chunks: list[Chunk]) -> DummyData:
 
 def read_proximity(buf: bytes, chunks: list[Chunk]) -> ProximitySensorData:
     volume = "ray"
-    randomized = False
+    randomized = explicit = False
     vol: tuple[float, ...] = (0.0, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     for c in chunks:
         f = Fields(buf, c)
@@ -212,6 +212,8 @@ def read_proximity(buf: bytes, chunks: list[Chunk]) -> ProximitySensorData:
             volume = PROX_VOLUMES.get(f.i32(), "ray")
         elif c.name == "Pr5":
             randomized = bit(f.u8(), 1)
+        elif c.name == "Pr4":
+            explicit = bit(f.u8(), 7)
         elif c.name == "Vod":
             for vc in chunk_list(buf, c.start, c.end)[0]:
                 if vc.name in ("Ss3", "_s3"):
@@ -220,7 +222,9 @@ def read_proximity(buf: bytes, chunks: list[Chunk]) -> ProximitySensorData:
     if volume == "ray" and randomized:
         volume = "randomized_ray"
     size = (xfar, yfar) if volume == "pyramid" else (2 * radius, 2 * radius_far)
-    return ProximitySensorData(volume=volume, range=rng, offset=offset, angle=angle, size=size)
+    return ProximitySensorData(
+        volume=volume, range=rng, offset=offset, angle=angle, size=size, explicit=explicit
+    )
 
 
 def read_vision(buf: bytes, chunks: list[Chunk]) -> VisionSensorData:

@@ -324,6 +324,7 @@ def _proximity(el: ET.Element) -> ProximitySensorData:
         offset=number(vol, "offset", 0.0),
         angle=math.radians(number(vol, "angle", 0.0)),
         size=far if kind == "pyramid" else (2 * radii[0], 2 * radii[1]),  # type: ignore[arg-type]
+        explicit=flag(el, "switches/explicitHandling", False),
     )
 
 

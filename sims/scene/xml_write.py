@@ -257,6 +257,10 @@ def _proximity(out: _Out, obj: SceneObject) -> None:
         out.leaf("closeFarRadius", _ns((s.size[0] / 2, s.size[1] / 2)))
     out.leaf("angle", _n(math.degrees(s.angle)))
     out.close("volume")
+    if s.explicit:
+        out.open("switches")
+        out.leaf("explicitHandling", True)
+        out.close("switches")
     if randomized:
         out.open("randomizedDetection")
         out.leaf("enabled", True)
