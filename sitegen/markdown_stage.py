@@ -37,6 +37,7 @@ class MarkdownStage:
 def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> MarkdownStage:
     """Convert what the cache does not hold; ``frag.markdown`` is left holding exactly the
     summaries of the sources the site uses now."""
+    from sitegen.highlight_cache import BLOCKS
     from sitegen.markdown_render import RENDER_VERSION, Rendered, plain_text
 
     held: dict[str, Rendered] = {}
@@ -73,8 +74,6 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
         return [(r.ids, r.toc, r.directives, r.highlights) for r in made]
 
     tasks = list(misses.values())
-    from sitegen.highlight_cache import BLOCKS
-
     # a cold build's store holds no blocks: asking it for each one would only cost time
     BLOCKS.lookup = store.highlighted if frag.markdown else None
     if len(tasks) >= MIN_PARALLEL:  # workers will be forked: give them what is costly to make
@@ -95,7 +94,11 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
 def used_blocks(frag: Fragments) -> set[str]:
     """Keys of the highlighted code blocks the cached pages hold (summaries written by an
     older version have none)."""
-    return {block for summary in frag.markdown.values() for block in summary[3:4] and summary[3]}
+    blocks: set[str] = set()
+    for summary in frag.markdown.values():
+        if len(summary) > 3:
+            blocks.update(summary[3])
+    return blocks
 
 
 def search_records(site: Site, renders: Renders, batch: int = 256) -> Iterator[str]:
