@@ -7,13 +7,14 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib.util
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from sitegen.cache import State
 from sitegen.config import Config
 from sitegen.content import SourceTree
 from sitegen.integrations import Integration
+from sitegen.output import Survey
 from sitegen.theme import Theme
 
 
@@ -32,6 +33,9 @@ class Inputs:
     integrations: list[Integration]
     rest: str  # the digest of every input but the content files
     fingerprint: str
+    #: the output folder as the build found it (sitegen.output.survey), once it is known
+    #: that the build is not a no-op
+    found: Survey = field(default_factory=Survey)
 
 
 @functools.cache

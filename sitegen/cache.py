@@ -20,7 +20,7 @@ from typing import Any
 
 from sitegen import __version__
 
-FORMAT = f"sitegen-cache-5-{__version__}"
+FORMAT = f"sitegen-cache-7-{__version__}"
 
 
 @dataclass
@@ -40,8 +40,13 @@ class State:
 class Fragments:
     #: source key -> (ids, toc, directives); the HTML is in fragments.sqlite (fragment_store)
     markdown: dict[str, Any] = field(default_factory=dict)
-    #: url -> (input key, context hash, output digest, diagnostics): see sitegen/page_jobs.py
+    #: url -> (input key, context hash, output digest, diagnostics, own key): see
+    #: sitegen/page_jobs.py
     pages: dict[str, tuple] = field(default_factory=dict)
+    #: page_jobs.PagePhase.tree_digest of the last build (its input keys' shared part)
+    tree: str = ""
+    #: the search index written: digest and rows (sitegen.search.write_search_script)
+    search: tuple = ()
     #: name -> (inputs hash, {output path: digest}) for the site-wide files (build.SiteWide)
     site_wide: dict[str, tuple] = field(default_factory=dict)
 
@@ -92,19 +97,32 @@ class Cache:
         self._dump(self.dir / "fragments.pickle", frag)
 
     def load_sources(self, root: Path) -> dict[str, tuple[list[int], Any]]:
-        """The last scan of ``root``: its records (sitegen.content.SourceTree.records), or
-        nothing (another folder: a moved file keeps its stat key but not its path)."""
+        """The last scan of ``root``: its records (sitegen.content.SourceTree.records), each
+        page's text read on demand (sitegen.source_records), or nothing (another folder: a
+        moved file keeps its stat key but not its path)."""
+        from sitegen.source_records import unpack
+
         try:
             with open(self.dir / "sources.pickle", "rb") as fh:
-                fmt, records = pickle.load(fh)
-            if fmt != FORMAT or not isinstance(records, tuple) or records[0] != str(root):
+                fmt, saved = pickle.load(fh)
+            if fmt != FORMAT or not isinstance(saved, tuple) or saved[0] != str(root):
                 return {}
-            return records[1]
-        except (OSError, pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError):
+            return unpack(saved[1], saved[2])
+        except (
+            OSError,
+            pickle.UnpicklingError,
+            EOFError,
+            ValueError,
+            TypeError,
+            AttributeError,
+            LookupError,
+        ):
             return {}
 
     def save_sources(self, root: Path, records: dict[str, tuple[list[int], Any]]) -> None:
-        self._dump(self.dir / "sources.pickle", (str(root), records))
+        from sitegen.source_records import pack
+
+        self._dump(self.dir / "sources.pickle", (str(root), *pack(records)))
 
     def _dump(self, path: Path, value: Any) -> None:
         """Pickled straight to the file: never a second copy of what it holds in memory."""

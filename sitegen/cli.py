@@ -8,6 +8,7 @@ for a bug in sitegen itself, which is reported as such.
 from __future__ import annotations
 
 import argparse
+import gc
 import sys
 from pathlib import Path
 
@@ -184,6 +185,9 @@ def main(argv: list[str] | None = None) -> int:
 def _build(args: argparse.Namespace) -> int:
     from sitegen.build import BuildOptions, build
 
+    # the process ends with the build: the collector, paused during it anyway
+    # (sitegen.build.collector_paused), would only walk what the build leaves behind
+    gc.disable()
     quiet, verbose = args.verbosity < 0, args.verbosity > 0
     opts = BuildOptions(
         source=args.source,

@@ -9,13 +9,16 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
-
-from located.yaml import MAX_BYTES, YamlError, compose, to_python
-from located.yamlwalk import ROOT, Walker
 from sitegen.errors import BuildError, Diagnostic
+
+if TYPE_CHECKING:
+    # YAML is imported by the functions that parse a sitegen.yml: a folder without one (and
+    # so a build that needs no YAML at all) does not pay ~25 ms to import it
+    import yaml
+
+    from located.yamlwalk import Walker as _Checker
 
 CONFIG_NAME = "sitegen.yml"
 LANGUAGES = ("zh-TW", "en")
@@ -121,9 +124,8 @@ class Config:
 # ---------------------------------------------------------------- schema checking
 
 
-# The shared line-numbered walker (``located.yamlwalk``, also used for rosters): it
-# reports wrong shapes and types, duplicate and unknown keys at their line.
-_Checker = Walker
+# The shared line-numbered walker (``located.yamlwalk``, also used for rosters) reports wrong
+# shapes and types, duplicate and unknown keys at their line.
 
 
 _TOP = {
@@ -198,7 +200,10 @@ def _require(ck: _Checker, node: yaml.Node, values: dict, key: str, where: str) 
 
 def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     """Parse and validate config text; raise :class:`BuildError` listing every problem."""
-    ck = _Checker(file)
+    from located.yaml import YamlError, compose, to_python
+    from located.yamlwalk import ROOT, Walker
+
+    ck = Walker(file)
     try:
         node = compose(text, file)
     except YamlError as exc:  # a LocatedError: its diagnostic names file, line and column
@@ -268,6 +273,8 @@ def _folder(ck: _Checker, node: yaml.Node, values: dict, where: str) -> dict:
 
 
 def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
+    import yaml
+
     if not isinstance(node, yaml.SequenceNode):
         ck.fail(node, "rosters", "must be a list")
         return []
@@ -295,6 +302,8 @@ def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
 
 
 def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
+    import yaml
+
     nodes = ck.keys(node, "sims", _SIMS)
     v = _values(ck, nodes, _SIMS, "sims.")
     kwargs: dict[str, Any] = {
@@ -346,6 +355,8 @@ def load_config(root: Path) -> Config:
     path = root / CONFIG_NAME
     if not path.is_file():
         return Config(root=root, title=root.resolve().name or "Site")
+    from located.yaml import MAX_BYTES
+
     try:
         if path.stat().st_size > MAX_BYTES:
             raise BuildError(

@@ -15,10 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
 
-import yaml
-
-from located import yaml as located_yaml
 from sitegen.errors import Diagnostics
+from sitegen.page_text import DeferredText, first_heading, text_key
 from sitegen.source_stats import MAX_DEPTH, stat_key
 from sitegen.source_stats import SKIP_DIRS as _SKIP_DIRS
 
@@ -43,8 +41,9 @@ _FRONT_KEYS = {
 
 
 @dataclass
-class SourcePage:
-    """A Markdown page as written by the author."""
+class SourcePage(DeferredText):
+    """A Markdown page as written by the author. A record taken from the build cache reads
+    its ``text`` only when something uses it (sitegen.source_records)."""
 
     rel: PurePosixPath  # path relative to the content root, e.g. stage-1/w1/index.md
     text: str  # Markdown body, front matter removed
@@ -54,6 +53,10 @@ class SourcePage:
     is_index: bool
     prefix: int | None  # numeric ordering prefix from the file name
     stem: str  # file name without prefix and suffix
+    #: made from ``text`` when the file is read: its key (page_text.text_key) and first
+    #: heading (page_text.first_heading), which the build needs of every page, text or not
+    text_key: str = field(default="", init=False, repr=False, compare=False)
+    heading: tuple | None = field(default=None, init=False, repr=False, compare=False)
 
     @property
     def display(self) -> str:
@@ -73,7 +76,6 @@ class SourceAsset:
 class SourceTree:
     pages: list[SourcePage] = field(default_factory=list)
     assets: list[SourceAsset] = field(default_factory=list)
-    dirs: list[PurePosixPath] = field(default_factory=list)
     #: path -> stat key of every file read (:func:`stat_key`), for the next build's no-op check
     stats: dict[str, list[int]] = field(default_factory=dict)
     #: path -> (stat key, SourcePage, SourceAsset or None for a draft) of each file read
@@ -112,6 +114,12 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
         return {}, raw, 1
     block = "\n".join(lines[1:end])
     body = "\n".join(lines[end + 1 :])
+    # imported here, not at the top: YAML costs ~25 ms to import, and a build that reads
+    # no front matter (a page edit, most pages) needs none of it
+    import yaml
+
+    from located import yaml as located_yaml
+
     try:
         node = located_yaml.compose(block, file, first_line=2)
     except located_yaml.YamlError as exc:
@@ -178,7 +186,9 @@ def _post_value(want: str, value: Any) -> Any:
         return parse_post_date(value)
     items = value.split(",") if isinstance(value, str) else value
     if not isinstance(items, list) or not all(isinstance(t, (str, int, float)) for t in items):
-        got = located_yaml.short_repr(value)
+        from located.yaml import short_repr
+
+        got = short_repr(value)
         return f"must be a list of names or a comma-separated text, got {got}"
     return tuple(dict.fromkeys(str(t).strip() for t in items if str(t).strip()))
 
@@ -196,7 +206,7 @@ def read_page(
     meta, body, body_line = parse_front_matter(raw, str(rel), diags)
     name = rel.name.rsplit(".", 1)[0]
     prefix, stem = split_name(name)
-    return SourcePage(
+    page = SourcePage(
         rel=rel,
         text=body,
         body_line=body_line,
@@ -206,6 +216,9 @@ def read_page(
         prefix=prefix,
         stem=stem,
     )
+    page.text_key = text_key(body)
+    page.heading = first_heading(body)
+    return page
 
 
 def scan(
@@ -213,11 +226,15 @@ def scan(
     diags: Diagnostics,
     exclude: set[Path] | None = None,
     known: dict[str, tuple[list[int], Any]] | None = None,
+    walked: dict[str, list[int]] | None = None,
 ) -> SourceTree:
     """Walk ``content_root`` in a fixed order and read every page and asset.
 
     ``known``: the last scan's :attr:`SourceTree.records`; a plain file whose stat key is the
     one recorded there (and not racily new) is taken from it instead of read again.
+    ``walked``: every file's stat key as :func:`sitegen.source_stats.stat_walk` found it just
+    before; when it names exactly the files of ``known``, nothing came or went, and the walk
+    is not made again (:func:`_rescan`).
 
     The walk keeps its own stack (no recursion, so no depth can overflow Python's), stops at
     :data:`MAX_DEPTH` folders, and reports instead of reading: a symlink whose target lies
@@ -225,13 +242,13 @@ def scan(
     anything that is not a regular file or folder, and files above the size limits."""
     tree = SourceTree()
     recent = time.time_ns() - RACY_NS
+    if known and walked is not None and walked.keys() == known.keys():
+        return _rescan(content_root, diags, known, walked, recent)
     exclude = {p.resolve() for p in (exclude or set())}
     boundary = content_root.resolve()
     stack: list[tuple[Path, PurePosixPath, Path]] = [(content_root, PurePosixPath("."), boundary)]
     while stack:
         here, rel_dir, real_dir = stack.pop()
-        if rel_dir.parts:
-            tree.dirs.append(rel_dir)
         try:
             with os.scandir(here) as it:
                 entries = sorted(it, key=lambda e: e.name)
@@ -273,6 +290,22 @@ def scan(
             else:
                 diags.error(str(rel), None, "", "not a regular file or folder; not published")
         stack.extend(reversed(subdirs))
+    return tree
+
+
+def _rescan(
+    content_root: Path, diags: Diagnostics, known: dict, walked: dict, recent: int
+) -> SourceTree:
+    """The same files as the last scan, every one a plain file read cleanly then (stat_walk
+    leaves symlinks and special files to the full walk): take them in the last scan's order
+    (its records are in walk order), reading only those whose stat key changed."""
+    tree = SourceTree()
+    for rel, (old_key, record) in known.items():
+        key = walked[rel]
+        if key == old_key and max(key[1], key[2]) < recent:
+            _record(tree, rel, key, record, True)
+        else:
+            _read_file(content_root / rel, PurePosixPath(rel), tree, diags, recent)
     return tree
 
 

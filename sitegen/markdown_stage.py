@@ -16,7 +16,8 @@ from typing import Any
 
 from sitegen.cache import Fragments
 from sitegen.fragment_store import FragmentStore, Renders
-from sitegen.nav import Site
+from sitegen.nav import Node, Site
+from sitegen.page_text import text_key
 from sitegen.search import record_json, record_parts
 from sitegen.workers import MIN_PARALLEL, run_chunks
 
@@ -60,8 +61,10 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
             summaries[node.url] = (rendered.ids, rendered.toc)
             sources[node.url] = hashlib.sha256(src.body_html.encode()).hexdigest()
             continue
+        # the text's own key where the scan made one: an unchanged page's text is not read
+        text = src.text_key or text_key(src.text)
         key = hashlib.sha256(
-            f"{RENDER_VERSION}\0{node.strip_first_heading}\0{src.text}".encode()
+            f"{RENDER_VERSION}\0{node.strip_first_heading}\0{text}".encode()
         ).hexdigest()
         sources[node.url] = from_store[node.url] = key
         if key not in frag.markdown or key not in stored:
@@ -101,12 +104,12 @@ def used_blocks(frag: Fragments) -> set[str]:
     return blocks
 
 
-def search_records(site: Site, renders: Renders, batch: int = 256) -> Iterator[str]:
-    """Each page's search record (JSON) in site order. Text and headings come from the small
-    parts the store keeps beside each fragment, read a batch of pages at a time (memory stays
-    flat); a page without them (generated pages, a store written by an older version) is
-    read whole."""
-    order = site.order
+def search_records(nodes: list[Node], renders: Renders, batch: int = 256) -> Iterator[str]:
+    """The search record (JSON) of each of ``nodes``, in order. Text and headings come from
+    the small parts the store keeps beside each fragment, read a batch of pages at a time
+    (memory stays flat); a page without them (generated pages, a store written by an older
+    version) is read whole."""
+    order = nodes
     for start in range(0, len(order), batch):
         nodes = order[start : start + batch]
         keys = {

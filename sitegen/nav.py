@@ -13,16 +13,17 @@ from dataclasses import dataclass, field
 from pathlib import PurePosixPath
 from typing import Any
 
+from sitegen.page_text import DeferredText, first_heading
 from sitegen.slugs import slugify, unique
 
 RESERVED_ROOT = {"index", "404", "search", "sitemap", "assets", "clips", "roster"}
-_HEADING = re.compile(r"^(#{1,6})[ \t]+(.+?)[ \t]*#*[ \t]*$")
-_FENCE = re.compile(r"^\s*(```|~~~)")
 
 
 @dataclass
-class PageInput:
-    """What navigation needs to know of a page, whatever produced it."""
+class PageInput(DeferredText):
+    """What navigation needs to know of a page, whatever produced it. A content page taken
+    from the last scan reads its ``text`` only when something uses it
+    (sitegen.source_records)."""
 
     rel: PurePosixPath  # content-relative source path (real or virtual)
     meta: dict[str, Any]
@@ -34,6 +35,13 @@ class PageInput:
     body_line: int = 1
     digest: str = ""
     toc: list[dict] | None = None  # generated pages may give their own table of contents
+    #: known without the text for a content page (SourcePage.text_key, .heading); never
+    #: copied by dataclasses.replace, so a page whose text an integration changed has none
+    text_key: str = field(default="", init=False, repr=False, compare=False)
+    heading: tuple | None = field(default=None, init=False, repr=False, compare=False)
+
+    def first_heading(self) -> tuple[str | None, int, bool]:
+        return self.heading if self.heading is not None else first_heading(self.text)
 
 
 @dataclass(eq=False)
@@ -78,33 +86,15 @@ def natural_key(text: str) -> tuple:
     )
 
 
-def first_heading(text: str) -> tuple[str | None, int, bool]:
-    """Return (title, level, is_first_content_line) for the first ATX heading outside code."""
-    in_fence, seen_content = False, False
-    for line in text.split("\n"):
-        if _FENCE.match(line):
-            in_fence = not in_fence
-            seen_content = True
-            continue
-        if in_fence:
-            continue
-        m = _HEADING.match(line)
-        if m:
-            return m.group(2).strip(), len(m.group(1)), not seen_content
-        if line.strip():
-            seen_content = True
-    return None, 0, False
-
-
 def _pretty(stem: str) -> str:
     return stem.replace("_", " ").replace("-", " ").strip() or stem
 
 
 def _title_for(page: PageInput) -> tuple[str, bool]:
     if "title" in page.meta:
-        title, level, first = first_heading(page.text)
+        title, level, first = page.first_heading()
         return page.meta["title"], bool(first and level == 1 and title == page.meta["title"])
-    title, level, first = first_heading(page.text)
+    title, level, first = page.first_heading()
     if title:
         return title, first and level == 1
     return _pretty(page.stem), False
@@ -152,7 +142,7 @@ def build_site(pages: list[PageInput], home_title: str = "Home") -> Site:
         prefix, stem = _split(d.name) if d.name else (None, "")
         if index is not None:
             title, strip = _title_for(index)
-            if "title" not in index.meta and not first_heading(index.text)[0]:
+            if "title" not in index.meta and not index.first_heading()[0]:
                 title, strip = (_pretty(stem) if d.name else home_title), False
         else:
             title, strip = (_pretty(stem) if d.name else home_title), False

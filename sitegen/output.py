@@ -26,7 +26,7 @@ import shutil
 import sys
 import threading
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from sitegen.errors import BuildError, Diagnostic
@@ -87,15 +87,31 @@ def intact(out_dir: Path, manifest: dict[str, list]) -> bool:
     )
 
 
-def _survey(out_dir: Path, manifest: dict[str, list]):
-    """One stat per file now in ``out_dir`` (as ``os.walk`` lists files: a symlinked folder is
-    not entered): (path -> digest, trusting the manifest where the stat matches; path -> stat
-    key; the paths that share their inode with another file)."""
-    found: dict[str, str] = {}
-    keys: dict[str, list[int]] = {}
-    linked: list[str] = []
+@dataclass
+class Survey:
+    """The output folder as the build found it, one stat per file (:func:`survey`): what
+    each file holds (the manifest's digest where the stat still matches, else read), its stat
+    key, and the paths that share their inode with another file. Taken once per build and
+    used by every "is this output file still the one the last build wrote?" question."""
+
+    digests: dict[str, str] = field(default_factory=dict)
+    keys: dict[str, list[int]] = field(default_factory=dict)
+    linked: list[str] = field(default_factory=list)
+
+    def unchanged(self, manifest: dict[str, list], rel: str, digest: str | None = None) -> bool:
+        """:func:`unchanged` without another stat."""
+        entry = manifest.get(rel)
+        if not entry or (digest is not None and entry[0] != digest):
+            return False
+        return entry[1:] == self.keys.get(rel)
+
+
+def survey(out_dir: Path, manifest: dict[str, list]) -> Survey:
+    """Every file now in ``out_dir`` (as ``os.walk`` lists files: a symlinked folder is not
+    entered), with one stat each (see :class:`Survey`)."""
+    found = Survey()
     if not out_dir.is_dir():
-        return found, keys, linked
+        return found
     stack = [("", str(out_dir))]
     while stack:
         rel_dir, here = stack.pop()
@@ -111,26 +127,32 @@ def _survey(out_dir: Path, manifest: dict[str, list]):
                 st = entry.stat()
                 key = [st.st_size, st.st_mtime_ns, st.st_ino]
             except OSError:
-                key = None
+                st, key = None, None
             old = manifest.get(rel)
             if key is not None and old and old[1:] == key:
-                found[rel] = old[0]
+                found.digests[rel] = old[0]
             else:
-                found[rel] = file_digest(Path(entry.path))
+                found.digests[rel] = file_digest(Path(entry.path))
             if key is not None:
-                keys[rel] = key
+                found.keys[rel] = key
             with contextlib.suppress(OSError):
-                if entry.stat(follow_symlinks=False).st_nlink > 1:
-                    linked.append(rel)
-    return found, keys, linked
+                if entry.is_symlink():  # the link count of the link itself
+                    st = entry.stat(follow_symlinks=False)
+                if st is not None and st.st_nlink > 1:
+                    found.linked.append(rel)
+    return found
 
 
 def publish(
-    out_dir: Path, files: dict[str, OutFile], manifest: dict[str, list]
+    out_dir: Path, files: dict[str, OutFile], manifest: dict[str, list], found: Survey | None = None
 ) -> tuple[dict[str, list], list[str]]:
-    """Make ``out_dir`` hold exactly ``files``. Returns (new manifest, changed paths)."""
+    """Make ``out_dir`` hold exactly ``files``. Returns (new manifest, changed paths).
+    ``found``: the :func:`survey` of ``out_dir`` the build took under the same output lock
+    (taken here if not given)."""
     with output_lock(out_dir):
-        now, keys, linked = _survey(out_dir, manifest)
+        if found is None:
+            found = survey(out_dir, manifest)
+        now, keys, linked = dict(found.digests), dict(found.keys), found.linked
         removed = sorted(set(now) - set(files))
         for rel in linked:
             del now[rel]  # shares its inode (a site written before issue 15): write it anew

@@ -10,6 +10,11 @@ depends on *before* links are rewritten (its Markdown fragment, its place in the
 menu, and a digest of everything its links can point at). A page whose input key and output
 file are as the last build left them is not touched at all, and the link warnings it had
 are reported again from the cache.
+
+Most edits change one page's text and nothing of the tree, so input keys are not even
+hashed for every page: :meth:`PagePhase.tree_digest` covers everything an input key takes
+from outside the page (tree, theme, link targets, site context), and when it is the last
+build's, a page whose own part (:meth:`PagePhase.own_key`) is unchanged keeps its last key.
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 from sitegen.errors import Diagnostic, Diagnostics
 from sitegen.links import LinkTargets, expand_directives, rewrite_links
 from sitegen.nav import Node, Site
-from sitegen.output import unchanged as output_unchanged
+from sitegen.output import Survey
 from sitegen.pages import Menus, MenuSignatures, PageBody, context_hash, page_context, render_page
 from sitegen.theme import Theme
 
@@ -42,6 +47,7 @@ class PageResult:
     digest: str
     rendered: bool = False
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    own_key: str = ""  # PagePhase.own_key, set by render_pages
 
 
 def links_digest(targets: LinkTargets) -> str:
@@ -75,6 +81,7 @@ class PagePhase:
     content_name: str
     output: Path
     manifest: dict[str, list]
+    found: Survey  # the output folder as the build found it
     old_pages: dict[str, tuple]
     scratch: Path
     salt: str  # links digest + integrations' fingerprints
@@ -82,7 +89,6 @@ class PagePhase:
     menu_signature: MenuSignatures = field(init=False)
 
     def __post_init__(self) -> None:
-        self._out = str(self.output)
         self.menus = Menus(self.theme, self.site)
         self.theme.env.get_template("page.html")  # compiled once, before workers are forked
         self.menu_signature = MenuSignatures(self.site)
@@ -96,6 +102,30 @@ class PagePhase:
             ctx, f"{self.theme_digest}\0{self.salt}\0{where}", self.menu_signature(node)
         )
 
+    def own_key(self, node: Node) -> str:
+        """The part of :meth:`input_key` that comes from the page alone: its source key and
+        table of contents. A Markdown page's table of contents is made from its source, so
+        its source key says it all; a generated page's contents are hashed with it."""
+        source = self.sources.get(node.url, "")
+        if node.url not in self.renders.held:
+            return source
+        own = f"{source}\0{self.tocs[node.url]!r}"
+        return hashlib.sha256(own.encode()).hexdigest()
+
+    def tree_digest(self) -> str:
+        """Everything :meth:`input_key` reads besides :meth:`own_key`: the theme, the salt,
+        the site context and, for every node in document order, what a page context, a menu
+        or a menu signature takes from it. Equal digests and an equal own key: equal input
+        keys."""
+        rows = []
+        for n in self.site.order:
+            src = n.source
+            parent = n.parent.index if n.parent is not None else -1
+            where = (str(src.rel), src.body_line, src.meta.get("_children", True)) if src else ()
+            rows.append((n.url, n.title, n.is_section, parent, n.strip_first_heading, where))
+        text = f"{self.theme_digest}\0{self.salt}\0{self.base!r}\0{rows!r}"
+        return hashlib.sha256(text.encode()).hexdigest()
+
     def reusable(self, node: Node, key: str) -> PageResult | None:
         """The last build's result for ``node`` if nothing it depends on changed."""
         old = self.old_pages.get(node.url)
@@ -104,15 +134,9 @@ class PagePhase:
         return PageResult(node.url, old[0], old[1], old[2], False, list(old[3]))
 
     def _untouched(self, url: str, digest: str) -> bool:
-        """:func:`sitegen.output.unchanged` without pathlib: called for every page."""
-        entry = self.manifest.get(url)
-        if not entry or entry[0] != digest:
-            return False
-        try:
-            st = os.stat(os.path.join(self._out, url))
-        except OSError:
-            return False
-        return entry[1:] == [st.st_size, st.st_mtime_ns, st.st_ino]
+        """The output file is the one the last build wrote (the build's survey of the output
+        folder: no stat per page)."""
+        return self.found.unchanged(self.manifest, url, digest)
 
     def run(self, tasks: Sequence[tuple[Node, str]]) -> list[PageResult]:
         """Render each (node, input key); in a worker process or in the build's own."""
@@ -134,7 +158,7 @@ class PagePhase:
         key = context_hash(ctx, self.theme_digest, self.menu_signature(node))
         old = self.old_pages.get(node.url)
         result = PageResult(node.url, input_key, key, "", False, diags.items)
-        if old and old[1] == key and output_unchanged(self.output, node.url, self.manifest, old[2]):
+        if old and old[1] == key and self._untouched(node.url, old[2]):
             result.digest = old[2]
             return result
         data = render_page(self.theme, self.menus, node, ctx)
@@ -181,14 +205,23 @@ def render_pages(
         inp.content_root.name,
         inp.output,
         inp.state.manifest,
+        inp.found,
         frag.pages,
         scratch,
         salt,
     )
     results: dict[str, PageResult] = {}
     todo: list[tuple] = []
+    tree = phase.tree_digest()
+    same_tree = tree == frag.tree
+    own_keys = {}
     for node in site.order:
-        key = phase.input_key(node)
+        own = own_keys[node.url] = phase.own_key(node)
+        old = frag.pages.get(node.url)
+        if same_tree and old is not None and len(old) > 4 and old[4] == own:
+            key = old[0]  # nothing the input key hashes changed: the last build's key
+        else:
+            key = phase.input_key(node)
         reused = phase.reusable(node, key)
         if reused is None:
             todo.append((node, key))
@@ -207,7 +240,8 @@ def render_pages(
             files[node.url] = OutFile(result.digest, source=inp.output / node.url)
     report.pages = len(site.order)
     new_pages = {
-        url: (r.input_key, r.context_key, r.digest, tuple(r.diagnostics))
+        url: (r.input_key, r.context_key, r.digest, tuple(r.diagnostics), own_keys[url])
         for url, r in results.items()
     }
+    frag.tree = tree
     return phase, files, new_pages

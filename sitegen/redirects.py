@@ -21,9 +21,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote
 
-import yaml
-
-from located import yaml as located_yaml
 from located.diagnostics import quoted
 from sitegen.config import Config
 from sitegen.errors import Diagnostics
@@ -97,7 +94,12 @@ def _reserved(path: str) -> str | None:
 
 def alias_lines(source: Path, body_line: int) -> dict[str, int]:
     """Line of each alias in a page's front matter, read again from the file: the front matter
-    record keeps values, not lines, and only pages with aliases pay for this."""
+    record keeps values, not lines, and only pages with aliases pay for this (YAML too is
+    imported only then)."""
+    import yaml
+
+    from located import yaml as located_yaml
+
     try:
         raw = source.read_bytes().decode("utf-8-sig").replace("\r\n", "\n").replace("\r", "\n")
         lines = raw.split("\n")

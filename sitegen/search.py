@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterable
+import mmap
+from collections.abc import Callable, Iterable, Sequence
 
 #: Text kept per page; long pages are cut so the index stays small on large sites.
 MAX_TEXT = 6000
@@ -46,20 +47,60 @@ def _flat(toc: list[dict]) -> list[dict]:
     return [x for h in toc for x in (h, *_flat(h.get("children") or []))]
 
 
-def write_search_script(path, records: Iterable[str]) -> str:
-    """``window.SITEGEN_SEARCH = [...]`` written to ``path`` one record (from
-    :func:`record_json`, in site order) at a time, so the whole site's text is never in
-    memory at once. Returns the file's SHA-256."""
+def record_key(salt: str, title: str, url: str, path: list[str], source: str) -> str:
+    """What a page's record is made of: its title, URL, path of section titles and source
+    key (the Markdown it was converted from); ``salt`` stands for the code that makes it."""
+    text = f"{salt}\0{title}\0{url}\0{' › '.join(path)}\0{source}"
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+#: The last index written: its SHA-256 and, per URL, (record key, start, end) of its record.
+IndexRows = tuple[str, dict[str, tuple[str, int, int]]]
+
+
+def write_search_script(
+    path,
+    keys: Sequence[tuple[str, str]],
+    records: Callable[[list[int]], Iterable[str]],
+    previous: tuple[bytes | mmap.mmap, IndexRows] | None = None,
+) -> IndexRows:
+    """``window.SITEGEN_SEARCH = [...]`` written to ``path`` one record at a time, so the
+    whole site's text is never in memory at once.
+
+    ``keys``: (URL, :func:`record_key`, or "" for a record that is always made) in site
+    order; ``records(positions)`` yields the records (:func:`record_json`) at those
+    positions of ``keys``, in order. ``previous``: the bytes of the index the last build
+    wrote and its rows; a record whose key is unchanged is copied from it, so a one-page
+    edit makes one record, not one per page. Returns the new file's digest and rows."""
+    old, old_rows = previous if previous is not None else (b"", {})
+    fresh = [
+        i for i, (url, key) in enumerate(keys) if not key or old_rows.get(url, ("",))[0] != key
+    ]
+    made = iter(records(fresh))
+    fresh_at = set(fresh)
     digest = hashlib.sha256()
+    rows: dict[str, tuple[str, int, int]] = {}
+    at = 0
     with open(path, "wb") as fh:
 
-        def put(text: str) -> None:
-            data = text.encode()
+        def put(data: bytes) -> None:
+            nonlocal at
             digest.update(data)
             fh.write(data)
+            at += len(data)
 
-        put("window.SITEGEN_SEARCH=[")
-        for number, record in enumerate(records):
-            put(("," if number else "") + record)
-        put("];\n")
-    return digest.hexdigest()
+        put(b"window.SITEGEN_SEARCH=[")
+        for number, (url, key) in enumerate(keys):
+            if number:
+                put(b",")
+            if number in fresh_at:
+                data = next(made).encode()
+            else:
+                _key, start, end = old_rows[url]
+                data = old[start:end]
+            start = at
+            put(data)
+            if key:
+                rows[url] = (key, start, at)
+        put(b"];\n")
+    return digest.hexdigest(), rows

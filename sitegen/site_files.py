@@ -9,6 +9,7 @@ re-render a 1000-entry Site Map.
 from __future__ import annotations
 
 import hashlib
+import mmap
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -17,10 +18,9 @@ from sitegen.content import SourceTree
 from sitegen.errors import Diagnostics
 from sitegen.markdown_stage import search_records
 from sitegen.nav import Site, full_tree
-from sitegen.output import OutFile, from_bytes
-from sitegen.output import unchanged as output_unchanged
+from sitegen.output import OutFile, Survey, from_bytes
 from sitegen.pages import Menus, sitemap_xml, special_pages
-from sitegen.search import write_search_script
+from sitegen.search import record_key, write_search_script
 from sitegen.theme import Theme
 
 if TYPE_CHECKING:
@@ -34,9 +34,12 @@ class SiteWide:
 
     output: Path
     manifest: dict[str, list]
+    found: Survey  # the output folder as the build found it
     old: dict[str, tuple[str, dict[str, str]]]
     salt: str  # theme digest and library versions
+    old_search: tuple = ()  # the last build's search index rows (sitegen.search.IndexRows)
     new: dict[str, tuple[str, dict[str, str]]] = field(default_factory=dict)
+    search: tuple = ()  # this build's
 
     def add(self, files: dict[str, OutFile], name: str, inputs: str, make) -> None:
         key = hashlib.sha256(f"{self.salt}\0{inputs}".encode()).hexdigest()
@@ -45,8 +48,7 @@ class SiteWide:
             old
             and old[0] == key
             and all(
-                output_unchanged(self.output, rel, self.manifest, digest)
-                for rel, digest in old[1].items()
+                self.found.unchanged(self.manifest, rel, digest) for rel, digest in old[1].items()
             )
         ):
             for rel, digest in old[1].items():
@@ -56,6 +58,34 @@ class SiteWide:
         made = {rel: from_bytes(data) for rel, data in make().items()}
         files.update(made)
         self.new[name] = (key, {rel: f.digest for rel, f in made.items()})
+
+
+def search_index(path: Path, site: Site, renders, reuse: SiteWide) -> str:
+    """Write the search index to ``path``, copying from the last build's index every record
+    whose inputs are unchanged (sitegen.search.write_search_script); returns its digest."""
+    keys = []
+    for n in site.order:
+        source = "" if n.url in renders.held else renders.keys_by_url.get(n.url, "")
+        path_titles = [a.title for a in n.ancestors()]
+        keys.append(
+            (n.url, record_key(reuse.salt, n.title, n.url, path_titles, source) if source else "")
+        )
+    order = site.order
+    old = reuse.old_search
+    rel = "assets/search-index.js"
+    if old and reuse.found.unchanged(reuse.manifest, rel, old[0]):
+        with (
+            open(reuse.output / rel, "rb") as fh,
+            mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ) as mm,
+        ):
+            reuse.search = write_search_script(
+                path, keys, lambda at: search_records([order[i] for i in at], renders), (mm, old[1])
+            )
+    else:
+        reuse.search = write_search_script(
+            path, keys, lambda at: search_records([order[i] for i in at], renders)
+        )
+    return reuse.search[0]
 
 
 def site_files(
@@ -82,7 +112,7 @@ def site_files(
     reuse.add(files, "assets", "", theme.assets)
     index = scratch / "assets" / "search-index.js"
     index.parent.mkdir(parents=True, exist_ok=True)
-    digest = write_search_script(index, search_records(site, renders))
+    digest = search_index(index, site, renders, reuse)
     files["assets/search-index.js"] = OutFile(digest, source=index, move=True)
     files[".nojekyll"] = from_bytes(b"")
     if base_url:
@@ -121,7 +151,7 @@ def make_site_files(
                 diags.error(rel, None, "", "a generated file has the same path as a page")
             files[rel] = from_bytes(data)
     salt = f"{inp.theme_digest}\0{code_digest()}"
-    reuse = SiteWide(inp.output, inp.state.manifest, frag.site_wide, salt)
+    reuse = SiteWide(inp.output, inp.state.manifest, inp.found, frag.site_wide, salt, frag.search)
     site_files(
         inp.config.base_url,
         inp.tree,

@@ -77,7 +77,9 @@ def run_chunks(
     gc.freeze()  # the workers' collector then never writes to (and so copies) inherited pages
     try:
         ctx = multiprocessing.get_context("fork")
-        with ctx.Pool(min(jobs, len(bounds)), maxtasksperchild=recycle) as pool:
+        # the build pauses the collector (sitegen.build.collector_paused); a worker, which
+        # makes its own garbage page after page, turns it back on
+        with ctx.Pool(min(jobs, len(bounds)), gc.enable, maxtasksperchild=recycle) as pool:
             out: list[Any] = []
             for part in pool.imap(_run_chunk, bounds):
                 out.extend(part)

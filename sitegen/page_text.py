@@ -1,0 +1,88 @@
+"""What the build knows of a page's Markdown text without reading it again: its key and
+its first heading, and records whose text is decoded only when first used.
+
+A leaf module (no sitegen imports): the scan (sitegen.content), navigation (sitegen.nav) and
+the build cache (sitegen.source_records) all use it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import re
+from typing import Any
+
+_HEADING = re.compile(r"^(#{1,6})[ \t]+(.+?)[ \t]*#*[ \t]*$")
+_FENCE = re.compile(r"^\s*(```|~~~)")
+
+
+def first_heading(text: str) -> tuple[str | None, int, bool]:
+    """Return (title, level, is_first_content_line) for the first ATX heading outside code."""
+    in_fence, seen_content = False, False
+    for line in text.split("\n"):
+        if _FENCE.match(line):
+            in_fence = not in_fence
+            seen_content = True
+            continue
+        if in_fence:
+            continue
+        m = _HEADING.match(line)
+        if m:
+            return m.group(2).strip(), len(m.group(1)), not seen_content
+        if line.strip():
+            seen_content = True
+    return None, 0, False
+
+
+class DeferredText:
+    """For a record dataclass with a ``text`` field: the field may be left unset and given a
+    source instead (:func:`deferred`); it is decoded and kept at its first use."""
+
+    def __getattr__(self, name: str) -> Any:  # only called when the attribute is missing
+        if name == "text":
+            held = self.__dict__.pop("_text_from", None)
+            if held is not None:
+                blob, start, end = held
+                text = bytes(blob[start:end]).decode()
+                self.__dict__["text"] = text
+                return text
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def text_bytes(self) -> bytes:
+        """The text as UTF-8, without decoding a deferred text."""
+        held = self.__dict__.get("_text_from")
+        if held is not None:
+            blob, start, end = held
+            return bytes(blob[start:end])
+        return self.text.encode()  # type: ignore[attr-defined]
+
+
+def text_key(text: str) -> str:
+    """What the Markdown cache keys a text on (sitegen.markdown_stage)."""
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+@functools.cache
+def _defaults(cls: type) -> tuple[tuple[str, Any, Any], ...]:
+    """(name, default, default factory) of each field of ``cls`` but ``text``."""
+    return tuple(
+        (f.name, f.default, f.default_factory) for f in dataclasses.fields(cls) if f.name != "text"
+    )
+
+
+def deferred(cls: type, text_from: tuple[Any, int, int], **values: Any) -> Any:
+    """An instance of the dataclass ``cls`` with ``values``, its ``text`` to be decoded from
+    ``text_from`` = (blob, start, end) when first used. Fields not given take their
+    defaults."""
+    obj = cls.__new__(cls)
+    for name, default, factory in _defaults(cls):
+        if name in values:
+            continue
+        if default is not dataclasses.MISSING:
+            values[name] = default
+        elif factory is not dataclasses.MISSING:
+            values[name] = factory()
+    obj.__dict__.update(values)
+    obj.__dict__["_text_from"] = text_from
+    return obj
