@@ -16,7 +16,7 @@ import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 from typing import Any
 
 from sitegen import __version__
@@ -38,6 +38,8 @@ from sitegen.theme import Theme
 
 @dataclass
 class BuildOptions:
+    """What ``sitegen build`` (or ``serve``) asks of one build."""
+
     source: Path = Path(".")
     output: Path | None = None
     strict: bool = False
@@ -51,6 +53,8 @@ class BuildOptions:
 
 @dataclass
 class BuildReport:
+    """What a build did: counts, changed files, diagnostics, notes and time."""
+
     output: Path
     pages: int = 0
     markdown_rendered: int = 0
@@ -310,13 +314,12 @@ def _template_cache(theme: Theme, cache_dir: Path) -> None:
 
 
 def _check_collisions(inputs: list, diags: Diagnostics) -> None:
-    seen: dict[PurePosixPath, Any] = {}
+    seen: set[str] = set()
     for p in inputs:
-        if p.rel in seen:
-            diags.error(
-                str(p.rel), None, "", "a generated page has the same path as a content page"
-            )
-        seen[p.rel] = p
+        rel = str(p.rel)
+        if rel in seen:
+            diags.error(rel, None, "", "a generated page has the same path as a content page")
+        seen.add(rel)
 
 
 def _rest_digest(config: Config, theme_digest: str, integrations: list[Integration]) -> str:

@@ -25,6 +25,8 @@ FORMAT = f"sitegen-cache-7-{__version__}"
 
 @dataclass
 class State:
+    """What a no-op check reads: fingerprint, output manifest, stat keys (state.json)."""
+
     fingerprint: str = ""
     output: str = ""
     manifest: dict[str, list] = field(default_factory=dict)
@@ -38,6 +40,8 @@ class State:
 
 @dataclass
 class Fragments:
+    """What a partial build reuses of the last one (fragments.pickle)."""
+
     #: source key -> (ids, toc, directives); the HTML is in fragments.sqlite (fragment_store)
     markdown: dict[str, Any] = field(default_factory=dict)
     #: url -> (input key, context hash, output digest, diagnostics, own key): see

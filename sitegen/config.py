@@ -58,6 +58,8 @@ class ClipConfig:
 
 @dataclass(frozen=True)
 class SimsConfig:
+    """The ``sims:`` section: the clip gallery and its clips."""
+
     section: str = "gallery"
     title: str = "Simulation gallery"
     width: int = 480

@@ -74,6 +74,8 @@ class SourceAsset:
 
 @dataclass
 class SourceTree:
+    """Everything the scan found under the content folder, in walk order."""
+
     pages: list[SourcePage] = field(default_factory=list)
     assets: list[SourceAsset] = field(default_factory=list)
     #: path -> stat key of every file read (:func:`stat_key`), for the next build's no-op check

@@ -17,6 +17,7 @@ from sitegen.page_text import DeferredText, first_heading
 from sitegen.slugs import slugify, unique
 
 RESERVED_ROOT = {"index", "404", "search", "sitemap", "assets", "clips", "roster"}
+_DIGITS = re.compile(r"(\d+)")
 
 
 @dataclass
@@ -73,6 +74,8 @@ class Node:
 
 @dataclass
 class Site:
+    """The page tree with its document order and lookups by source path and folder."""
+
     root: Node
     order: list[Node]  # document order, root first
     by_source: dict[PurePosixPath, Node]  # content-relative .md path -> node
@@ -82,7 +85,7 @@ class Site:
 def natural_key(text: str) -> tuple:
     """Sort 'w2' before 'w10'."""
     return tuple(
-        (0, int(t), "") if t.isdigit() else (1, 0, t.lower()) for t in re.split(r"(\d+)", text) if t
+        (0, int(t), "") if t.isdigit() else (1, 0, t.lower()) for t in _DIGITS.split(text) if t
     )
 
 
@@ -116,12 +119,21 @@ def build_site(pages: list[PageInput], home_title: str = "Home") -> Site:
     top = PurePosixPath(".")
     dirs: dict[PurePosixPath, list[PageInput]] = {top: []}
     parents: dict[PurePosixPath, PurePosixPath] = {}  # pathlib makes a new object per .parent
+    # pages grouped by their folder's name first: hashing a path object costs more than
+    # hashing its string, and there are as many pages as lookups
+    named: dict[str, list[PageInput]] = {}
     for page in sorted(pages, key=lambda p: str(p.rel)):
-        d = page.rel.parent
-        if d in dirs:
-            dirs[d].append(page)
+        folder = str(page.rel).rpartition("/")[0]
+        group = named.get(folder)
+        if group is None:
+            group = named[folder] = []
+        group.append(page)
+    for group in named.values():
+        d = group[0].rel.parent
+        if d in dirs:  # an ancestor of a folder seen before
+            dirs[d].extend(group)
             continue
-        dirs[d] = [page]
+        dirs[d] = group
         while d != top:
             up = parents[d] = d.parent
             if up in dirs:

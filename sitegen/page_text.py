@@ -64,25 +64,31 @@ def text_key(text: str) -> str:
 
 
 @functools.cache
-def _defaults(cls: type) -> tuple[tuple[str, Any, Any], ...]:
-    """(name, default, default factory) of each field of ``cls`` but ``text``."""
-    return tuple(
-        (f.name, f.default, f.default_factory) for f in dataclasses.fields(cls) if f.name != "text"
-    )
+def _defaults(cls: type) -> tuple[dict[str, Any], tuple[tuple[str, Any], ...]]:
+    """The field defaults of ``cls`` (but ``text``'s): plain values, and default factories."""
+    plain: dict[str, Any] = {}
+    made: list[tuple[str, Any]] = []
+    for f in dataclasses.fields(cls):
+        if f.name == "text":
+            continue
+        if f.default is not dataclasses.MISSING:
+            plain[f.name] = f.default
+        elif f.default_factory is not dataclasses.MISSING:
+            made.append((f.name, f.default_factory))
+    return plain, tuple(made)
 
 
 def deferred(cls: type, text_from: tuple[Any, int, int], **values: Any) -> Any:
     """An instance of the dataclass ``cls`` with ``values``, its ``text`` to be decoded from
     ``text_from`` = (blob, start, end) when first used. Fields not given take their
     defaults."""
+    plain, made = _defaults(cls)
     obj = cls.__new__(cls)
-    for name, default, factory in _defaults(cls):
-        if name in values:
-            continue
-        if default is not dataclasses.MISSING:
-            values[name] = default
-        elif factory is not dataclasses.MISSING:
-            values[name] = factory()
-    obj.__dict__.update(values)
-    obj.__dict__["_text_from"] = text_from
+    fields = obj.__dict__
+    fields.update(plain)
+    for name, factory in made:
+        if name not in values:
+            fields[name] = factory()
+    fields.update(values)
+    fields["_text_from"] = text_from
     return obj

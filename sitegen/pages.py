@@ -26,6 +26,8 @@ if TYPE_CHECKING:  # integrations import this module for root_prefix: keep Jinja
 
 @dataclass
 class PageBody:
+    """A page's converted body, table of contents and plain text."""
+
     html: str
     toc: list[dict]
     text: str

@@ -12,6 +12,7 @@ import re
 import unicodedata
 
 _KEEP = re.compile(r"[^\w]+", re.UNICODE)
+_RUNS = re.compile(r"-{2,}")
 _WINDOWS_RESERVED = (
     {"con", "prn", "aux", "nul"} | {f"com{i}" for i in range(10)} | {f"lpt{i}" for i in range(10)}
 )
@@ -21,7 +22,7 @@ def slugify(text: str, fallback: str = "page") -> str:
     """Turn a title into a slug: ``'W1 利用SSH維護倉儲'`` -> ``'w1-利用ssh維護倉儲'``."""
     text = unicodedata.normalize("NFKC", text).lower()
     slug = _KEEP.sub("-", text).replace("_", "-")
-    slug = re.sub(r"-{2,}", "-", slug).strip("-")
+    slug = _RUNS.sub("-", slug).strip("-")
     slug = slug[:80].strip("-")
     if not slug or slug in _WINDOWS_RESERVED:
         slug = fallback if not slug else f"{slug}-"

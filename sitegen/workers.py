@@ -15,7 +15,6 @@ available (Windows, macOS' default), everything runs in one process.
 from __future__ import annotations
 
 import gc
-import multiprocessing
 import os
 import sys
 from collections.abc import Callable, Sequence
@@ -47,6 +46,9 @@ def jobs_wanted() -> int:
 
 
 def _fork_available() -> bool:
+    # imported here: a build small enough for one process (a page edit) never needs it (~9 ms)
+    import multiprocessing
+
     return sys.platform.startswith("linux") and "fork" in multiprocessing.get_all_start_methods()
 
 
@@ -76,6 +78,8 @@ def run_chunks(
     gc.collect()
     gc.freeze()  # the workers' collector then never writes to (and so copies) inherited pages
     try:
+        import multiprocessing
+
         ctx = multiprocessing.get_context("fork")
         # the build pauses the collector (sitegen.build.collector_paused); a worker, which
         # makes its own garbage page after page, turns it back on
