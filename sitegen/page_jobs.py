@@ -138,11 +138,15 @@ class PagePhase:
         folder: no stat per page)."""
         return self.found.unchanged(self.manifest, url, digest)
 
-    def run(self, tasks: Sequence[tuple[Node, str]]) -> list[PageResult]:
+    def run(self, tasks: Sequence[tuple[Node, str | None]]) -> list[PageResult]:
         """Render each (node, input key); in a worker process or in the build's own."""
         return [self.one(node, key) for node, key in tasks]
 
-    def one(self, node: Node, input_key: str) -> PageResult:
+    def one(self, node: Node, input_key: str | None) -> PageResult:
+        """Render ``node``; ``input_key`` None: not made yet (a first build makes them here,
+        in the workers, as no page can be reused)."""
+        if input_key is None:
+            input_key = self.input_key(node)
         diags = Diagnostics()
         src = node.source
         rendered = self.renders[node.url]
@@ -218,6 +222,9 @@ def render_pages(
     for node in site.order:
         own = own_keys[node.url] = phase.own_key(node)
         old = frag.pages.get(node.url)
+        if not frag.pages:  # nothing to reuse: the input keys are made by the page jobs
+            todo.append((node, None))
+            continue
         if same_tree and old is not None and len(old) > 4 and old[4] == own:
             key = old[0]  # nothing the input key hashes changed: the last build's key
         else:

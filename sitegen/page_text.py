@@ -18,9 +18,16 @@ _FENCE = re.compile(r"^\s*(```|~~~)")
 
 
 def first_heading(text: str) -> tuple[str | None, int, bool]:
-    """Return (title, level, is_first_content_line) for the first ATX heading outside code."""
+    """Return (title, level, is_first_content_line) for the first ATX heading outside code.
+    Reads line by line up to the heading (usually the first line), not the whole text."""
     in_fence, seen_content = False, False
-    for line in text.split("\n"):
+    start, size = 0, len(text)
+    while start <= size:
+        end = text.find("\n", start)
+        if end < 0:
+            end = size
+        line = text[start:end]
+        start = end + 1
         if _FENCE.match(line):
             in_fence = not in_fence
             seen_content = True

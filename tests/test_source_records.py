@@ -4,13 +4,17 @@ used, and saving them again neither decodes nor re-encodes the texts nobody read
 from __future__ import annotations
 
 import dataclasses
+import re
 from pathlib import Path, PurePosixPath
+
+from hypothesis import given
+from hypothesis import strategies as st
 
 from sitegen.build import to_input
 from sitegen.content import SourceAsset, SourcePage, read_page
 from sitegen.errors import Diagnostics
 from sitegen.nav import build_site
-from sitegen.page_text import text_key
+from sitegen.page_text import first_heading, text_key
 from sitegen.source_records import pack, unpack
 
 
@@ -91,3 +95,25 @@ def test_saving_again_keeps_untouched_rows_and_compacts_when_mostly_stale():
     final = unpack(rows2, blob2)
     assert final["index.md"][1].text.startswith("# 首頁 5\n")
     assert final["w1/a.md"][1].text == _records()["w1/a.md"][1].text
+
+
+_LINES = st.sampled_from(
+    ["# A", "## B c", "", "```", "~~~", "text", "  ", "#no", "### x ###", "\t# t"]
+)
+
+
+@given(st.lists(_LINES, max_size=8), st.booleans())
+def test_first_heading_stops_at_the_heading_but_reads_as_every_line_would(lines, newline):
+    """The first heading as a reading of every line (what nav did before) finds it."""
+    text = "\n".join(lines) + ("\n" if newline else "")
+    in_fence, seen, want = False, False, (None, 0, False)
+    for line in text.split("\n"):
+        if line.lstrip().startswith(("```", "~~~")):
+            in_fence, seen = not in_fence, True
+        elif not in_fence and re.match(r"^(#{1,6})[ \t]+(.+?)[ \t]*#*[ \t]*$", line):
+            m = re.match(r"^(#{1,6})[ \t]+(.+?)[ \t]*#*[ \t]*$", line)
+            want = (m.group(2).strip(), len(m.group(1)), not seen)
+            break
+        elif not in_fence and line.strip():
+            seen = True
+    assert first_heading(text) == want
