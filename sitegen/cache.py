@@ -20,7 +20,7 @@ from typing import Any
 
 from sitegen import __version__
 
-FORMAT = f"sitegen-cache-7-{__version__}"
+FORMAT = f"sitegen-cache-8-{__version__}"
 
 
 @dataclass
@@ -42,7 +42,8 @@ class State:
 class Fragments:
     """What a partial build reuses of the last one (fragments.pickle)."""
 
-    #: source key -> (ids, toc, directives); the HTML is in fragments.sqlite (fragment_store)
+    #: source key -> (ids, pickled toc, directives, highlighted blocks); the HTML is in
+    #: fragments.sqlite (fragment_store)
     markdown: dict[str, Any] = field(default_factory=dict)
     #: url -> (input key, context hash, output digest, diagnostics, own key): see
     #: sitegen/page_jobs.py

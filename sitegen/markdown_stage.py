@@ -9,6 +9,7 @@ all in memory. The build keeps only each page's ids, table of contents and direc
 from __future__ import annotations
 
 import hashlib
+import pickle
 import re
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -27,7 +28,8 @@ _ID = re.compile(r'\sid="([^"]+)"')
 @dataclass
 class MarkdownStage:
     """What the stage hands on: url -> Rendered (read from the store on demand), url -> key of
-    the source (for page input keys), url -> (ids, toc), and how many pages it converted."""
+    the source (for page input keys), url -> (ids, toc: pickled for a Markdown page, see
+    :func:`toc_of`), and how many pages it converted."""
 
     renders: Renders
     sources: dict[str, str]
@@ -74,7 +76,9 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
         made = _convert([(text, strip) for _key, text, strip in tasks])
         pairs = ((key, r) for (key, _t, _s), r in zip(tasks, made, strict=True))
         store.put_many(pairs, BLOCKS.take_new())
-        return [(r.ids, r.toc, r.directives, r.highlights) for r in made]
+        # the table of contents pickled: a partial build loads every page's summary but
+        # reads the contents of the few pages whose input keys it makes (toc_of)
+        return [(r.ids, pickle.dumps(r.toc, 5), r.directives, r.highlights) for r in made]
 
     tasks = list(misses.values())
     # a cold build's store holds no blocks: asking it for each one would only cost time
@@ -92,6 +96,12 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
         summaries[url] = used[key][:2]
     frag.markdown = used
     return MarkdownStage(Renders(store, from_store, held), sources, summaries, len(tasks))
+
+
+def toc_of(summary_toc: bytes | list) -> list:
+    """A page's table of contents from :attr:`MarkdownStage.summaries` (kept pickled for
+    Markdown pages)."""
+    return pickle.loads(summary_toc) if isinstance(summary_toc, bytes) else summary_toc
 
 
 def used_blocks(frag: Fragments) -> set[str]:

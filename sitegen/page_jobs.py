@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 from sitegen.errors import Diagnostic, Diagnostics
 from sitegen.links import LinkTargets, expand_directives, rewrite_links
+from sitegen.markdown_stage import toc_of
 from sitegen.nav import Node, Site
 from sitegen.output import Survey
 from sitegen.pages import Menus, MenuSignatures, PageBody, context_hash, page_context, render_page
@@ -72,7 +73,7 @@ class PagePhase:
     site: Site
     renders: Mapping[str, Any]  # url -> markdown_render.Rendered (read on demand)
     sources: dict[str, str]  # url -> key of the page's source (Markdown hash) for input keys
-    tocs: dict[str, list]  # url -> the page's table of contents
+    tocs: dict[str, Any]  # url -> the page's table of contents (markdown_stage.toc_of)
     targets: LinkTargets
     handlers: dict
     theme: Theme
@@ -94,7 +95,7 @@ class PagePhase:
         self.menu_signature = MenuSignatures(self.site)
 
     def input_key(self, node: Node) -> str:
-        body = PageBody(self.sources.get(node.url, ""), self.tocs[node.url], "")
+        body = PageBody(self.sources.get(node.url, ""), toc_of(self.tocs[node.url]), "")
         ctx = page_context(self.site, node, body, self.base)
         src = node.source
         where = f"{src.rel}\0{src.body_line}" if src is not None else ""
@@ -109,7 +110,7 @@ class PagePhase:
         source = self.sources.get(node.url, "")
         if node.url not in self.renders.held:
             return source
-        own = f"{source}\0{self.tocs[node.url]!r}"
+        own = f"{source}\0{toc_of(self.tocs[node.url])!r}"
         return hashlib.sha256(own.encode()).hexdigest()
 
     def tree_digest(self) -> str:
