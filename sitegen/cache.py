@@ -133,7 +133,7 @@ class Cache:
         """Pickled straight to the file: never a second copy of what it holds in memory."""
         self.dir.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
-        with open(tmp, "wb") as fh:
+        with open(tmp, "wb", buffering=1 << 20) as fh:
             pickle.dump((FORMAT, value), fh, protocol=pickle.HIGHEST_PROTOCOL)
         os.replace(tmp, path)
 

@@ -81,7 +81,7 @@ def write_search_script(
     digest = hashlib.sha256()
     rows: dict[str, tuple[str, int, int]] = {}
     at = 0
-    with open(path, "wb") as fh:
+    with open(path, "wb", buffering=1 << 20) as fh:  # a few writes, not one per 8 KB
 
         def put(data: bytes) -> None:
             nonlocal at
