@@ -17,6 +17,7 @@ from __future__ import annotations
 import os
 import pickle
 import sqlite3
+import time
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -49,7 +50,8 @@ class FragmentStore:
 
     def _open(self) -> sqlite3.Connection:
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        for attempt in (1, 2):
+        removed = False
+        for _wait in range(500):
             try:
                 db = sqlite3.connect(str(self.path), timeout=120, isolation_level=None)
                 db.execute("PRAGMA journal_mode=WAL")
@@ -57,12 +59,19 @@ class FragmentStore:
                 for table in _SCHEMA:
                     db.execute(table)
                 return db
-            except sqlite3.DatabaseError:
-                if attempt == 2:
+            except sqlite3.DatabaseError as exc:
+                # two workers making a new store at once: one finds it locked (switching to
+                # WAL does not wait on the busy timeout). Not damage: removing the file would
+                # pull it from under the other worker ("no such table", "malformed").
+                if "locked" in str(exc):
+                    time.sleep(0.01)
+                    continue
+                if removed:
                     raise
+                removed = True
                 for suffix in ("", "-wal", "-shm"):
                     Path(f"{self.path}{suffix}").unlink(missing_ok=True)
-        raise AssertionError("unreachable")
+        raise sqlite3.OperationalError(f"{self.path}: still locked after 5 s")
 
     def keys(self) -> set[str]:
         try:

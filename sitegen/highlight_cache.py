@@ -42,7 +42,10 @@ class LazyLexer:
 
     def lexer(self) -> Any:
         if self._lexer is None:
-            self._lexer = self.cls(**self.options)
+            # the same tokens for fewer regex calls; imported here: most builds lex nothing
+            from sitegen.regex_lexing import accelerate
+
+            self._lexer = accelerate(self.cls(**self.options))
         return self._lexer
 
     def get_tokens(self, text: str, unfiltered: bool = False) -> Any:

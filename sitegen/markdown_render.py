@@ -34,6 +34,7 @@ from sitegen.highlight_cache import BLOCKS, LazyLexer
 from sitegen.markdown_speed import (
     LinearBlocksExtension,
     LinearFootnotesExtension,
+    SkippingInlineExtension,
     cached_formatter,
 )
 from sitegen.md_tabs import TabsExtension
@@ -46,10 +47,11 @@ RENDER_VERSION = f"md-4/{markdown.__version__}/{pygments.__version__}"
 DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
 MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")
 _TAGS = re.compile(r"<[^>]+>")
+_ANCHOR = re.compile(r'<a class="anchor"[^>]*>.*?</a>')
+_SCRIPT = re.compile(r"<(script|style)\b.*?</\1>", re.S)
 _INLINE_TAGS = re.compile(
     r"</?(?:span|code|strong|em|b|i|a|sup|sub|mark|small|abbr|kbd|s|u)\b[^>]*>"
 )
-_SPACE = re.compile(r"\s+")
 _FENCE = re.compile(r"^\s*(```|~~~)")
 
 
@@ -128,9 +130,13 @@ def warm_lexers(texts: Iterable[str]) -> None:
     """Make the lexers of the fenced code in ``texts`` now, before workers are forked, so each
     worker inherits them compiled (Pygments compiles a lexer's rules on first use: ~50 ms for
     Python) instead of compiling them again. Only the default options are warmed."""
+    from sitegen.regex_lexing import prepare
+
     for lang in sorted({m.lower() for text in texts for m in _LANG.findall(text)}):
         with contextlib.suppress(Exception):  # a bad name fails again, reported, in the page
-            get_lexer_by_name(lang).get_tokens("")
+            lexer = get_lexer_by_name(lang)
+            lexer.get_tokens("")
+            prepare(lexer)  # and read its rules for sitegen.regex_lexing
 
 
 codehilite.get_lexer_by_name = cached_lexer  # the names codehilite calls, per code block
@@ -174,9 +180,13 @@ class MarkdownRenderer:
                 AdmonitionExtension(),  # !!! note|tip|warning "title" (reader, issue 17)
                 TabsExtension(),  # === "Windows" content tabs (sitegen/md_tabs.py)
                 LinearBlocksExtension(),  # blocks as a queue: linear in the page's size
+                SkippingInlineExtension(),  # prose without any inline markup skipped at once
             ],
             output_format="html",
         )
+        # the speed extensions read their patterns on the first page: do it now, so worker
+        # processes forked after this inherit it (sitegen.markdown_stage)
+        self.render("sitegen")
 
     def render(self, text: str, strip_first_heading: bool = False) -> Rendered:
         if strip_first_heading:
@@ -224,7 +234,9 @@ def _toc(tokens: list[dict]) -> list[dict]:
 
 def plain_text(fragment: str) -> str:
     """Visible text of an HTML fragment, whitespace collapsed (for search and snippets)."""
-    fragment = re.sub(r'<a class="anchor"[^>]*>.*?</a>', "", fragment)
-    fragment = re.sub(r"<(script|style)\b.*?</\1>", " ", fragment, flags=re.S)
+    fragment = _ANCHOR.sub("", fragment)
+    fragment = _SCRIPT.sub(" ", fragment)
     fragment = _INLINE_TAGS.sub("", fragment)
-    return _SPACE.sub(" ", html.unescape(_TAGS.sub(" ", fragment))).strip()
+    # str.split() splits at exactly the characters ``\s`` matches, and is far quicker than a
+    # regular expression over CJK text
+    return " ".join(html.unescape(_TAGS.sub(" ", fragment)).split())

@@ -55,6 +55,13 @@ def shrink(suffix: str, data: bytes) -> bytes:
     return ("\n".join(kept) + "\n").encode("utf-8")
 
 
+@functools.lru_cache(maxsize=4096)
+def _quoted(path: str) -> str:
+    """A path percent-encoded for an href (the ``u`` filter; a page's menu, breadcrumbs and
+    pager quote the same few paths again and again)."""
+    return quote(path, safe="/#-._~!$&'()*+,;=:@%")
+
+
 class Theme:
     def __init__(self, project_dir: Path | None):
         self.dirs = [d for d in (project_dir, default_theme_dir()) if d is not None and d.is_dir()]
@@ -65,7 +72,9 @@ class Theme:
         Jinja2 would be a fifth of its time."""
         import jinja2
 
-        env = jinja2.Environment(
+        from sitegen.theme_env import ThemeEnvironment  # dict attributes looked up directly
+
+        env = ThemeEnvironment(
             loader=jinja2.FileSystemLoader([str(d) for d in self.dirs]),
             autoescape=True,
             undefined=jinja2.StrictUndefined,
@@ -74,7 +83,7 @@ class Theme:
         )
         # tojson for scripts (assets/nav.js): UTF-8 text is smaller than \u escapes
         env.policies["json.dumps_kwargs"] = {"sort_keys": True, "ensure_ascii": False}
-        env.filters["u"] = lambda path: quote(str(path), safe="/#-._~!$&'()*+,;=:@%")
+        env.filters["u"] = lambda path: _quoted(str(path))
         return env
 
     def assets(self) -> dict[str, bytes]:
