@@ -11,16 +11,18 @@ one.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import pickle
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from sitegen import __version__
 
-FORMAT = f"sitegen-cache-8-{__version__}"
+FORMAT = f"sitegen-cache-9-{__version__}"
 
 
 @dataclass
@@ -105,14 +107,18 @@ class Cache:
         """The last scan of ``root``: its records (sitegen.content.SourceTree.records), each
         page's text read on demand (sitegen.source_records), or nothing (another folder: a
         moved file keeps its stat key but not its path)."""
-        from sitegen.source_records import unpack
+        from sitegen.source_records import TextBlob, unpack
 
         try:
             with open(self.dir / "sources.pickle", "rb") as fh:
                 fmt, saved = pickle.load(fh)
             if fmt != FORMAT or not isinstance(saved, tuple) or saved[0] != str(root):
                 return {}
-            return unpack(saved[1], saved[2])
+            _root, rows, name, size = saved
+            data = (self.dir / name).read_bytes()
+            if len(data) < size:  # cut short: the texts the rows point at are not all there
+                return {}
+            return unpack(rows, TextBlob(data, name))
         except (
             OSError,
             pickle.UnpicklingError,
@@ -125,9 +131,38 @@ class Cache:
             return {}
 
     def save_sources(self, root: Path, records: dict[str, tuple[list[int], Any]]) -> None:
-        from sitegen.source_records import pack
+        """The records as rows (``sources.pickle``) and their texts in ``sources-*.texts``:
+        the texts of pages read anew are appended to the last file, which is written afresh
+        (under a new name, so the rows always name a complete file) once it is mostly texts
+        no page uses."""
+        from sitegen.source_records import compact, pack, shared_blob
 
-        self._dump(self.dir / "sources.pickle", (str(root), *pack(records)))
+        self.dir.mkdir(parents=True, exist_ok=True)
+        base = shared_blob(records)
+        tail = 0
+        if base is not None:
+            try:
+                tail = (self.dir / base.name).stat().st_size
+            except OSError:
+                base = None
+            if tail < len(base.data if base is not None else b""):
+                base = None  # not the file the texts were read from
+        rows, extra, live = pack(records, base, tail if base is not None else 0)
+        if base is not None and tail + len(extra) <= 2 * live + (64 << 10):
+            name = base.name
+            with open(self.dir / name, "ab") as fh:
+                fh.write(extra)
+            size = tail + len(extra)
+        else:
+            rows, data = compact(rows, base.data if base is not None else b"", tail, extra)
+            name = f"sources-{time.time_ns()}.texts"
+            self._write(self.dir / name, data)
+            size = len(data)
+        self._dump(self.dir / "sources.pickle", (str(root), rows, name, size))
+        for old in self.dir.glob("sources-*.texts"):
+            if old.name != name:
+                with contextlib.suppress(OSError):
+                    old.unlink()
 
     def _dump(self, path: Path, value: Any) -> None:
         """Pickled straight to the file: never a second copy of what it holds in memory."""

@@ -3,10 +3,11 @@
 A one-page edit of a 1000-page site takes 999 records from the last scan (sitegen.content's
 ``known``). What the build needs of an unchanged page is its path, front matter, digest, title
 heading and a key of its text, not the text itself: only the pages it converts or renders
-again read their text. So the cache keeps the records as plain tuples with every text as
-UTF-8 in one blob, and a page taken from it decodes its text on first use
-(sitegen.page_text.DeferredText). Loading and saving 1000 records then costs a few milliseconds
-instead of decoding and re-encoding 4 MB of text each time.
+again read their text. So the cache keeps the records as plain tuples, and every text as
+UTF-8 in a file of texts that an edit only appends to (sitegen.cache writes both); a page
+taken from them decodes its text on first use (sitegen.page_text.DeferredText). Loading and
+saving 1000 records then costs a few milliseconds instead of decoding, re-encoding and
+rewriting 4 MB of text each time.
 """
 
 from __future__ import annotations
@@ -18,14 +19,28 @@ from sitegen.content import SourceAsset, SourcePage
 from sitegen.page_text import deferred
 
 
-def pack(records: dict[str, tuple[list[int], Any]]) -> tuple[dict[str, tuple], bytes]:
-    """``rel -> (stat key, SourcePage | SourceAsset | None)`` as plain rows and one blob of
-    the pages' texts. A page still as :func:`unpack` made it keeps its row and its text's
-    place in the loaded blob, and the texts read anew are added after it, so a one-page edit
-    neither re-encodes nor copies 999 texts; the blob is written afresh once more than half
-    of it is texts no page uses."""
+class TextBlob:
+    """The texts of the cached records, as read from their file (``name`` in the cache
+    folder); a deferred page's text is a slice of it."""
+
+    __slots__ = ("data", "name")
+
+    def __init__(self, data: bytes, name: str):
+        self.data = data
+        self.name = name
+
+    def __getitem__(self, where: slice) -> bytes:
+        return self.data[where]
+
+
+def pack(
+    records: dict[str, tuple[list[int], Any]], base: TextBlob | None, tail: int
+) -> tuple[dict[str, tuple], bytearray, int]:
+    """``rel -> (stat key, SourcePage | SourceAsset | None)`` as plain rows, the texts to add
+    at ``tail`` (the end of ``base``'s file), and how many bytes of texts the rows use. A page
+    still as :func:`unpack` made it from ``base`` keeps its row and its text's place, so a
+    one-page edit neither re-encodes nor writes 999 texts again."""
     rows: dict[str, tuple] = {}
-    base = _shared_blob(records)
     extra = bytearray()
     live = 0
     for rel, (key, record) in records.items():
@@ -37,7 +52,7 @@ def pack(records: dict[str, tuple[list[int], Any]]) -> tuple[dict[str, tuple], b
                 live += row[-1] - row[-2]
                 continue
             data = record.text_bytes()
-            start = len(base) + len(extra)
+            start = tail + len(extra)
             extra += data
             live += len(data)
             rows[rel] = (
@@ -59,34 +74,37 @@ def pack(records: dict[str, tuple[list[int], Any]]) -> tuple[dict[str, tuple], b
             rows[rel] = (key, "asset", str(record.rel), str(record.path), record.digest)
         else:
             rows[rel] = (key, "draft")
-    blob = base + extra
-    if len(blob) > 2 * live:  # mostly old texts: copy the live ones into a new blob
-        return _compact(rows, blob)
-    return rows, blob
+    return rows, extra, live
 
 
-def _shared_blob(records: dict[str, tuple[list[int], Any]]) -> bytes:
-    """The blob the records :func:`unpack` made read their texts from (b"" if none)."""
+def shared_blob(records: dict[str, tuple[list[int], Any]]) -> TextBlob | None:
+    """The blob the records :func:`unpack` made read their texts from (None if none)."""
     for _key, record in records.values():
         held = getattr(record, "__dict__", {}).get("_text_from")
         if held is not None:
             return held[0]
-    return b""
+    return None
 
 
-def _compact(rows: dict[str, tuple], blob: bytes) -> tuple[dict[str, tuple], bytes]:
+def compact(
+    rows: dict[str, tuple], base: bytes, tail: int, extra: bytes
+) -> tuple[dict[str, tuple], bytes]:
+    """The rows with only the texts they use, in one new blob (texts before ``tail`` are in
+    ``base``, the others in ``extra``)."""
     fresh = bytearray()
     out: dict[str, tuple] = {}
     for rel, row in rows.items():
         if row[1] == "page":
-            start = len(fresh)
-            fresh += blob[row[-2] : row[-1]]
-            row = (*row[:-2], start, len(fresh))
+            start, end = row[-2], row[-1]
+            text = extra[start - tail : end - tail] if start >= tail else base[start:end]
+            at = len(fresh)
+            fresh += text
+            row = (*row[:-2], at, len(fresh))
         out[rel] = row
     return out, bytes(fresh)
 
 
-def unpack(rows: dict[str, tuple], blob: bytes) -> dict[str, tuple[list[int], Any]]:
+def unpack(rows: dict[str, tuple], blob: TextBlob) -> dict[str, tuple[list[int], Any]]:
     """The records :func:`pack` made, each page's text deferred."""
     records: dict[str, tuple[list[int], Any]] = {}
     for rel, row in rows.items():

@@ -1,5 +1,5 @@
 """The build cache's source records: a page taken from the last scan reads its text only when
-used, and saving them again neither decodes nor re-encodes the texts nobody read."""
+used, and saving them again neither decodes, re-encodes nor rewrites the texts nobody read."""
 
 from __future__ import annotations
 
@@ -11,11 +11,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from sitegen.build import to_input
+from sitegen.cache import Cache
 from sitegen.content import SourceAsset, SourcePage, read_page
 from sitegen.errors import Diagnostics
 from sitegen.nav import build_site
 from sitegen.page_text import first_heading, text_key
-from sitegen.source_records import pack, unpack
 
 
 def _page(rel: str, text: str) -> SourcePage:
@@ -37,9 +37,22 @@ def _records() -> dict:
     return records
 
 
-def test_records_round_trip_with_every_field_and_text():
+ROOT = Path("/content")
+
+
+def _saved_and_loaded(tmp_path: Path, records: dict) -> dict:
+    cache = Cache(tmp_path / "cache")
+    cache.save_sources(ROOT, records)
+    return cache.load_sources(ROOT)
+
+
+def _texts(tmp_path: Path) -> list[Path]:
+    return sorted((tmp_path / "cache").glob("sources-*.texts"))
+
+
+def test_records_round_trip_with_every_field_and_text(tmp_path):
     records = _records()
-    back = unpack(*pack(records))
+    back = _saved_and_loaded(tmp_path, records)
     assert list(back) == list(records)
     for rel, (key, record) in records.items():
         assert back[rel][0] == key
@@ -53,8 +66,8 @@ def test_records_round_trip_with_every_field_and_text():
             assert back[rel][1] == record
 
 
-def test_an_unchanged_site_is_navigated_without_reading_any_text():
-    back = unpack(*pack(_records()))
+def test_an_unchanged_site_is_navigated_without_reading_any_text(tmp_path):
+    back = _saved_and_loaded(tmp_path, _records())
     inputs = [to_input(r) for _k, r in back.values() if isinstance(r, SourcePage)]
     site = build_site(inputs)
     assert [n.title for n in site.order] == ["首頁", "w1", "第一週", "b"]
@@ -64,37 +77,53 @@ def test_an_unchanged_site_is_navigated_without_reading_any_text():
     assert inputs[1].text == "# 第一週\n\n內容 a\n"  # read when asked for
 
 
-def test_a_page_whose_text_an_integration_changes_loses_the_text_derived_fields():
-    page = to_input(unpack(*pack(_records()))["w1/a.md"][1])
+def test_a_page_whose_text_an_integration_changes_loses_the_text_derived_fields(tmp_path):
+    page = to_input(_saved_and_loaded(tmp_path, _records())["w1/a.md"][1])
     assert page.text_key and page.heading == ("第一週", 1, True)
     changed = dataclasses.replace(page, text="::: slide deck\n\n# 別的\n")
     assert changed.text_key == "" and changed.heading is None
     assert changed.first_heading() == ("別的", 1, False)
 
 
-def test_saving_again_keeps_untouched_rows_and_compacts_when_mostly_stale():
-    rows, blob = pack(_records())
-    back = unpack(rows, blob)
-    again_rows, again_blob = pack(back)
-    assert again_rows == rows and again_blob == blob
-    assert all(again_rows[rel] is rows[rel] for rel in rows if rows[rel][1] == "page")
-    # a new version of one page: its text is added, the others keep their place
-    key = [7, 7, 7, 7]
-    back["w1/b.md"] = (key, _page("w1/b.md", "新的內容\n" * 3))
-    rows2, blob2 = pack(back)
-    assert rows2["index.md"] is rows["index.md"]
-    assert len(blob2) > len(blob)
-    assert unpack(rows2, blob2)["w1/b.md"][1].text == "新的內容\n" * 3
-    # many rewrites of a long page: the stale versions are dropped
-    for n in range(6):
-        back = unpack(rows2, blob2)
-        back["index.md"] = (key, _page("index.md", f"# 首頁 {n}\n" + "長" * 400))
-        rows2, blob2 = pack(back)
-    live = sum(r[-1] - r[-2] for r in rows2.values() if r[1] == "page")
-    assert len(blob2) <= 2 * live
-    final = unpack(rows2, blob2)
-    assert final["index.md"][1].text.startswith("# 首頁 5\n")
+def test_an_edit_appends_its_text_and_a_mostly_stale_file_is_written_afresh(tmp_path):
+    cache = Cache(tmp_path / "cache")
+    cache.save_sources(ROOT, _records())
+    [first] = _texts(tmp_path)
+    size = first.stat().st_size
+    # saved again unchanged: the same file, nothing added, no text decoded
+    back = cache.load_sources(ROOT)
+    cache.save_sources(ROOT, back)
+    assert _texts(tmp_path) == [first] and first.stat().st_size == size
+    assert all("text" not in r.__dict__ for _k, r in back.values() if isinstance(r, SourcePage))
+    # one page read anew: only its text is added to the same file
+    back = cache.load_sources(ROOT)
+    back["w1/b.md"] = ([7, 7, 7, 7], _page("w1/b.md", "新的內容\n" * 3))
+    cache.save_sources(ROOT, back)
+    assert _texts(tmp_path) == [first]
+    assert first.stat().st_size == size + len(("新的內容\n" * 3).encode())
+    assert cache.load_sources(ROOT)["w1/b.md"][1].text == "新的內容\n" * 3
+    # many rewrites of a long page: the file of mostly old versions is replaced
+    for n in range(40):
+        back = cache.load_sources(ROOT)
+        back["index.md"] = ([7, 7, 7, n], _page("index.md", f"# 首頁 {n}\n" + "長" * 4000))
+        cache.save_sources(ROOT, back)
+    [now] = _texts(tmp_path)  # 40 versions of 12 KB were written; at most a few are kept
+    live = 12_100 + 200
+    assert now != first and now.stat().st_size <= 2 * live + (64 << 10) + 12_100
+    final = cache.load_sources(ROOT)
+    assert final["index.md"][1].text.startswith("# 首頁 39\n")
     assert final["w1/a.md"][1].text == _records()["w1/a.md"][1].text
+    assert final["w1/b.md"][1].text == "新的內容\n" * 3
+
+
+def test_a_cut_short_file_of_texts_means_no_cached_records(tmp_path):
+    cache = Cache(tmp_path / "cache")
+    cache.save_sources(ROOT, _records())
+    [texts] = _texts(tmp_path)
+    texts.write_bytes(texts.read_bytes()[:10])
+    assert cache.load_sources(ROOT) == {}
+    texts.unlink()
+    assert cache.load_sources(ROOT) == {}
 
 
 _LINES = st.sampled_from(
