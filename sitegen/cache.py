@@ -1,12 +1,13 @@
 """The build cache: what the last build made, keyed by content hashes.
 
 ``state.json`` (input fingerprint, output manifest, and each source's stat key) is what a
-no-op rebuild reads and stops at; ``sources.pickle`` (each source file's parsed record by
-its stat key), ``fragments.pickle`` (per source hash: ids, table of contents; per page: the
-context hash) and ``fragments.sqlite`` (sitegen.fragment_store) are what a partial rebuild
-needs. A stat key only stands for a hash already taken (sitegen.source_stats). A cache that
-cannot be read (other version, truncated file) is simply ignored: the build is then a cold
-one.
+no-op rebuild reads and stops at; ``sources.pickle`` with ``sources-*.texts`` (each source
+file's parsed record by its stat key; the texts apart, sitegen.source_records),
+``fragments.pickle`` (per source hash: ids, table of contents; per page: the input and
+context keys; the search index's rows) and ``fragments.sqlite`` (sitegen.fragment_store) are
+what a partial rebuild needs. A stat key only stands for a hash already taken
+(sitegen.source_stats). A cache that cannot be read (other version, truncated file) is simply
+ignored: the build is then a cold one.
 """
 
 from __future__ import annotations
