@@ -140,15 +140,10 @@ class Cache:
 
         self.dir.mkdir(parents=True, exist_ok=True)
         base = shared_blob(records)
-        tail = 0
-        if base is not None:
-            try:
-                tail = (self.dir / base.name).stat().st_size
-            except OSError:
-                base = None
-            if tail < len(base.data if base is not None else b""):
-                base = None  # not the file the texts were read from
-        rows, extra, live = pack(records, base, tail if base is not None else 0)
+        tail = self._size(base.name) if base is not None else -1
+        if base is None or tail < len(base.data):  # gone, or not the file the texts came from
+            base, tail = None, 0
+        rows, extra, live = pack(records, base, tail)
         if base is not None and tail + len(extra) <= 2 * live + (64 << 10):
             name = base.name
             with open(self.dir / name, "ab") as fh:
@@ -164,6 +159,12 @@ class Cache:
             if old.name != name:
                 with contextlib.suppress(OSError):
                     old.unlink()
+
+    def _size(self, name: str) -> int:
+        try:
+            return (self.dir / name).stat().st_size
+        except OSError:
+            return -1
 
     def _dump(self, path: Path, value: Any) -> None:
         """Pickled straight to the file: never a second copy of what it holds in memory."""

@@ -119,16 +119,15 @@ def search_records(nodes: list[Node], renders: Renders, batch: int = 256) -> Ite
     the small parts the store keeps beside each fragment, read a batch of pages at a time
     (memory stays flat); a page without them (generated pages, a store written by an older
     version) is read whole."""
-    order = nodes
-    for start in range(0, len(order), batch):
-        nodes = order[start : start + batch]
+    for start in range(0, len(nodes), batch):
+        chunk = nodes[start : start + batch]
         keys = {
             n.url: renders.keys_by_url[n.url]
-            for n in nodes
+            for n in chunk
             if n.url not in renders.held and n.url in renders.keys_by_url
         }
         stored = renders.store.search_parts(sorted(set(keys.values())))
-        for n in nodes:
+        for n in chunk:
             parts = stored.get(keys.get(n.url, ""))
             if parts is None:
                 rendered = renders[n.url]

@@ -48,7 +48,6 @@ class PageResult:
     digest: str
     rendered: bool = False
     diagnostics: list[Diagnostic] = field(default_factory=list)
-    own_key: str = ""  # PagePhase.own_key, set by render_pages
 
 
 def links_digest(targets: LinkTargets) -> str:
@@ -226,7 +225,7 @@ def render_pages(
         if not frag.pages:  # nothing to reuse: the input keys are made by the page jobs
             todo.append((node, None))
             continue
-        if same_tree and old is not None and len(old) > 4 and old[4] == own:
+        if same_tree and old is not None and old[4] == own:
             key = old[0]  # nothing the input key hashes changed: the last build's key
         else:
             key = phase.input_key(node)

@@ -47,13 +47,10 @@ class DeferredText:
     source instead (:func:`deferred`); it is decoded and kept at its first use."""
 
     def __getattr__(self, name: str) -> Any:  # only called when the attribute is missing
-        if name == "text":
-            held = self.__dict__.pop("_text_from", None)
-            if held is not None:
-                blob, start, end = held
-                text = bytes(blob[start:end]).decode()
-                self.__dict__["text"] = text
-                return text
+        if name == "text" and "_text_from" in self.__dict__:
+            text = self.__dict__["text"] = self.text_bytes().decode()
+            del self.__dict__["_text_from"]
+            return text
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def text_bytes(self) -> bytes:

@@ -8,6 +8,7 @@ re-render a 1000-entry Site Map.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import mmap
 from dataclasses import dataclass, field
@@ -73,17 +74,14 @@ def search_index(path: Path, site: Site, renders, reuse: SiteWide) -> str:
     order = site.order
     old = reuse.old_search
     rel = "assets/search-index.js"
-    if old and reuse.found.unchanged(reuse.manifest, rel, old[0]):
-        with (
-            open(reuse.output / rel, "rb") as fh,
-            mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ) as mm,
-        ):
-            reuse.search = write_search_script(
-                path, keys, lambda at: search_records([order[i] for i in at], renders), (mm, old[1])
-            )
-    else:
+    with contextlib.ExitStack() as stack:
+        previous = None
+        if old and reuse.found.unchanged(reuse.manifest, rel, old[0]):
+            fh = stack.enter_context(open(reuse.output / rel, "rb"))
+            mm = stack.enter_context(mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ))
+            previous = (mm, old[1])
         reuse.search = write_search_script(
-            path, keys, lambda at: search_records([order[i] for i in at], renders)
+            path, keys, lambda at: search_records([order[i] for i in at], renders), previous
         )
     return reuse.search[0]
 

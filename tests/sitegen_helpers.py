@@ -28,6 +28,18 @@ def run_build(source: Path, output: Path, **kw) -> BuildReport:
     return build(BuildOptions(source=source, output=output, log=lambda line: None, **kw))
 
 
+def settled_build(tmp_path: Path, monkeypatch, files: dict[str, str | bytes]):
+    """``files`` built once, with the racy-stat window off so that the files written a moment
+    ago count as settled (the cache trusts their stat keys); returns (src, out, cache)."""
+    import sitegen.content
+
+    monkeypatch.setattr(sitegen.content, "RACY_NS", 0)
+    src = write_tree(tmp_path / "src", files)
+    out, cache = tmp_path / "site", tmp_path / "cache"
+    run_build(src, out, cache_dir=cache)
+    return src, out, cache
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-m", "sitegen", *args],

@@ -18,7 +18,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from markdown.extensions import codehilite
 from pygments.lexers import get_lexer_by_name
-from sitegen_helpers import run_build, snapshot, write_tree
+from sitegen_helpers import run_build, settled_build, snapshot, write_tree
 
 import sitegen.content
 from sitegen.markdown_render import MarkdownRenderer
@@ -37,10 +37,7 @@ TREE = {
 @pytest.fixture()
 def settled(tmp_path: Path, monkeypatch):
     """A built site whose sources the cache trusts by stat, and a counter of file reads."""
-    monkeypatch.setattr(sitegen.content, "RACY_NS", 0)
-    src = write_tree(tmp_path / "src", TREE)
-    out, cache = tmp_path / "site", tmp_path / "cache"
-    run_build(src, out, cache_dir=cache)
+    src, out, cache = settled_build(tmp_path, monkeypatch, TREE)
     reads: list[str] = []
     real = sitegen.content._read_file
 

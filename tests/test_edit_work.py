@@ -12,7 +12,7 @@ import gc
 from pathlib import Path
 
 import pytest
-from sitegen_helpers import run_build, snapshot, write_tree
+from sitegen_helpers import run_build, settled_build, snapshot
 
 import sitegen.build
 import sitegen.content
@@ -34,11 +34,7 @@ TREE = {
 @pytest.fixture()
 def settled(tmp_path: Path, monkeypatch):
     """A built site whose sources the cache trusts by stat (no racy window)."""
-    monkeypatch.setattr(sitegen.content, "RACY_NS", 0)
-    src = write_tree(tmp_path / "src", TREE)
-    out, cache = tmp_path / "site", tmp_path / "cache"
-    run_build(src, out, cache_dir=cache)
-    return src, out, cache
+    return settled_build(tmp_path, monkeypatch, TREE)
 
 
 def _clean_build(src: Path, tmp_path: Path) -> dict[str, bytes]:
