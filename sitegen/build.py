@@ -43,7 +43,7 @@ class BuildOptions:
     source: Path = Path(".")
     output: Path | None = None
     strict: bool = False
-    clean: bool = False
+    clean: bool = False  # every page rendered again, the output written afresh (clips: cache)
     cache_dir: Path | None = None
     log: Callable[[str], None] = lambda line: print(line, file=sys.stderr)
     is_tty: bool = False
@@ -204,7 +204,9 @@ def _build(opts: BuildOptions, paths: tuple[Config, Path, Path, Path]) -> BuildR
         for integ in inp.integrations:
             files.update(integ.files())
             report.notes.extend(integ.notes(inp.state))
-        manifest, report.changed = publish(inp.output, files, inp.state.manifest, inp.found)
+        manifest, report.changed = publish(
+            inp.output, files, inp.state.manifest, inp.found, afresh=opts.clean
+        )
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     clean = not diags.warnings

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import posixpath
+from collections.abc import Callable
 from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
@@ -45,8 +46,9 @@ def _parse(path: Path) -> _Collector:
     return c
 
 
-def check_site(site_dir: Path) -> list[str]:
-    """Return one line per problem, ``file:line: message``; empty when the site is sound."""
+def check_site(site_dir: Path, log: Callable[[str], None] | None = None) -> list[str]:
+    """Return one line per problem, ``file:line: message``; empty when the site is sound.
+    ``log`` (``check -v``) hears each page checked with what it links to."""
     site_dir = site_dir.resolve()
     if not site_dir.is_dir():
         return [f"{site_dir}: not a folder (build the site first)"]
@@ -55,11 +57,23 @@ def check_site(site_dir: Path) -> list[str]:
     parsed = {p.relative_to(site_dir).as_posix(): _parse(p) for p in pages}
     for rel, c in parsed.items():
         if rel == "404.html":
+            if log:
+                log(f"  {rel}: not checked (served at any depth; its links use <base href>)")
             continue  # served at any depth by GitHub Pages; its links use <base href>
+        outside = 0
         for tag, attr, url, line in c.refs:
             problem = _check_ref(site_dir, parsed, rel, c, tag, attr, url)
+            outside += bool(urlsplit(url).scheme) or url.startswith("//")
             if problem:
                 problems.append(f"{rel}:{line}: {problem}")
+        if log:
+            log(
+                f"  {rel}: {len(c.refs) - outside} links in the site, {outside} outside it "
+                f"(form only), {len(c.ids)} ids"
+            )
+    if log:
+        files = sum(1 for p in site_dir.rglob("*") if p.is_file())
+        log(f"  {len(parsed)} pages, {files} files")
     return problems
 
 

@@ -36,11 +36,31 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
+class _NotHere(argparse.Action):
+    """A MkDocs flag with no sitegen equivalent: one line that says what to do instead."""
+
+    def __init__(self, option_strings, dest, why: str = "", nargs=0, **kw) -> None:
+        super().__init__(option_strings, argparse.SUPPRESS, nargs=nargs, help=argparse.SUPPRESS)
+        self.why = why
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        print(f"{parser.prog}: error: {option_string}: {self.why}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _not_here(p: argparse.ArgumentParser, *flags: str, why: str, value: bool = False) -> None:
+    p.add_argument(*flags, action=_NotHere, why=why, nargs="?" if value else 0)
+
+
 def make_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="sitegen", description="Static course-site generator with a simulation gallery."
     )
-    parser.add_argument("--version", action="version", version=f"sitegen {__version__}")
+    parser.add_argument("-V", "--version", action="version", version=f"sitegen {__version__}")
+    # -q/-v before the command too (`sitegen -v build`), as after it
+    top = parser.add_mutually_exclusive_group()
+    top.add_argument("-q", "--quiet", dest="top_verbosity", action="store_const", const=-1)
+    top.add_argument("-v", "--verbose", dest="top_verbosity", action="store_const", const=1)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     loud = _Parser(add_help=False)
     add_verbosity(loud, "print only warnings and errors", "also print each file written")
@@ -61,11 +81,47 @@ def make_parser() -> argparse.ArgumentParser:
     _build_args(s)
     addr = s.add_mutually_exclusive_group()
     addr.add_argument(
+        "-a",
         "--dev-addr",
         metavar="HOST:PORT",
         help="loopback address to serve on (default 127.0.0.1:8000; port 0 picks a free one)",
     )
     addr.add_argument("--port", default="8000", help="port on 127.0.0.1 (default 8000)")
+    s.add_argument(
+        "--livereload",
+        action="store_true",
+        help="reload the open page after a rebuild (always on: as in MkDocs)",
+    )
+    s.add_argument(
+        "--dirtyreload",
+        action="store_true",
+        help="rebuild only what changed (always: every sitegen build does)",
+    )
+    _not_here(
+        s,
+        "--no-livereload",
+        why="sitegen serve always reloads the page; for a plain copy run sitegen build "
+        "and open site/index.html",
+    )
+    _not_here(
+        s,
+        "-o",
+        "--open",
+        why="sitegen serve does not open a browser: open the address it prints",
+    )
+    _not_here(
+        s,
+        "-w",
+        "--watch",
+        value=True,
+        why="sitegen serve already watches the whole project (sitegen.yml, content, templates, "
+        "the clips' scripts and scenes)",
+    )
+    _not_here(
+        s,
+        "--watch-theme",
+        why="sitegen serve already watches the project's templates/ (templates_dir:)",
+    )
     c = sub.add_parser(
         "check",
         help="check a built site offline",
@@ -75,6 +131,7 @@ def make_parser() -> argparse.ArgumentParser:
     c.add_argument(
         "dir", nargs="?", default="site", type=Path, help="the built site (default: site)"
     )
+    c.set_defaults(loud_help="also print each page checked and what it links to")
     n = sub.add_parser(
         "new",
         help="create a new course site that builds at once",
@@ -88,6 +145,15 @@ def make_parser() -> argparse.ArgumentParser:
     n.add_argument(
         "--language", choices=["zh-TW", "en"], default="zh-TW", help="interface language"
     )
+    n.add_argument(
+        "--from",
+        dest="install_from",
+        metavar="SPEC",
+        default=None,
+        help="where the site's CI installs sitegen from (requirements.txt): a git URL with "
+        "@tag or @commit, a wheel's URL, a path, or a pip requirement (default: this "
+        "project's repository at the tag of this version)",
+    )
     g = sub.add_parser(
         "gh-deploy",
         help="publish the built site to the gh-pages branch",
@@ -95,45 +161,184 @@ def make_parser() -> argparse.ArgumentParser:
         "(the message names the source commit) and push it, as mkdocs gh-deploy does.",
         parents=[loud],
     )
+    _config_args(g)
     g.add_argument(
-        "--site-dir", type=Path, default=None, help="the built site (default: the config's output)"
+        "-d",
+        "--site-dir",
+        type=Path,
+        default=None,
+        help="where to build the site and deploy it from (default: the config's output_dir)",
     )
-    g.add_argument("--source", type=Path, default=Path("."), help="project folder (default: .)")
-    g.add_argument("--remote", default="origin", help="remote to push to (default: origin)")
-    g.add_argument("--branch", default="gh-pages", help="branch to commit to (default: gh-pages)")
-    g.add_argument("-m", "--message", default=None, help="commit message ({sha} is replaced)")
+    g.add_argument(
+        "-r",
+        "--remote",
+        "--remote-name",
+        dest="remote",
+        default="origin",
+        help="remote to push to (default: origin)",
+    )
+    g.add_argument(
+        "-b",
+        "--branch",
+        "--remote-branch",
+        dest="branch",
+        default="gh-pages",
+        help="branch to commit to (default: gh-pages)",
+    )
+    g.add_argument(
+        "-m", "--message", default=None, help="commit message ({sha} and {version} are replaced)"
+    )
+    g.add_argument("--force", action="store_true", help="force the push (replaces the branch)")
+    g.add_argument(
+        "--no-history",
+        action="store_true",
+        help="one commit with no parent: the branch keeps no history (pushed with --force)",
+    )
     g.add_argument("--no-push", action="store_true", help="commit only, do not push")
     g.add_argument(
         "--no-build",
         action="store_true",
-        help="deploy the site as it is (default: a strict build first)",
+        help="deploy the site folder as it is (default: a strict build first)",
     )
+    g.add_argument("-s", "--strict", action="store_true", help="(always: the build is strict)")
+    _clean_args(g)
+    g.add_argument(
+        "--ignore-version",
+        action="store_true",
+        help="(always: sitegen does not compare the deployed site's sitegen version)",
+    )
+    g.add_argument("--shell", action="store_true", help="run git through the shell (ghp-import)")
+    _theme_flags(g)
     for name, (_mod, help_text) in DELEGATED.items():
         sub.add_parser(name, help=help_text, add_help=False)
     return parser
 
 
-def _build_args(p: argparse.ArgumentParser) -> None:
+def _config_args(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--source",
         type=Path,
-        default=Path("."),
+        default=None,
         help="project folder with sitegen.yml, or any folder of Markdown (default: .)",
     )
     p.add_argument(
-        "--output", type=Path, default=None, help="where to write the site (default: site/)"
+        "-f",
+        "--config-file",
+        type=Path,
+        default=None,
+        metavar="sitegen.yml",
+        help="the project's sitegen.yml: its folder is the project (as --source)",
+    )
+
+
+def _clean_args(p: argparse.ArgumentParser) -> None:
+    how = p.add_mutually_exclusive_group()
+    how.add_argument(
+        "-c",
+        "--clean",
+        action="store_true",
+        help="render every page again and write the output folder afresh, removing what the "
+        "build did not make (clips come from the clip cache: its keys cover what they are "
+        "made of; docs/clips.md)",
+    )
+    how.add_argument(
+        "--dirty",
+        action="store_true",
+        help="rebuild only what changed (the default: every sitegen build does)",
+    )
+
+
+def _theme_flags(p: argparse.ArgumentParser) -> None:
+    _not_here(
+        p,
+        "-t",
+        "--theme",
+        value=True,
+        why="sitegen has one theme: override any of its files in a templates/ folder beside "
+        "sitegen.yml (templates_dir: names another; docs/authoring.md#themes)",
+    )
+    for flag in ("--use-directory-urls", "--no-directory-urls"):
+        _not_here(
+            p,
+            flag,
+            why="sitegen's links always name the file (page.html, dir/index.html), so a site "
+            "works from file:// and on GitHub Pages alike; there is no other form",
+        )
+
+
+def _build_args(p: argparse.ArgumentParser) -> None:
+    _config_args(p)
+    p.add_argument(
+        "-d",
+        "--output",
+        "--site-dir",
+        dest="output",
+        type=Path,
+        default=None,
+        help="where to write the site (default: the config's output_dir, site/)",
     )
     p.add_argument(
+        "-s",
         "--strict",
         action="store_true",
         help="treat warnings (broken links, failed clips) as errors",
     )
-    p.add_argument("--clean", action="store_true", help="ignore the cache and rebuild everything")
+    _clean_args(p)
     p.add_argument(
         "--retry-failed",
         action="store_true",
         help="render again the clips whose failure is remembered in the cache (docs/clips.md)",
     )
+    _theme_flags(p)
+
+
+def project_source(args: argparse.Namespace) -> Path:
+    """The project folder the command works on: ``--source``, or the folder of
+    ``-f/--config-file``, or the current folder -- or, when that is inside the content folder
+    of a project above it (``sitegen build`` typed in ``content/``), that project, as git finds
+    its repository from a subfolder. Raises :class:`UsageError`."""
+    from sitegen.config import CONFIG_NAME
+
+    source, config_file = args.source, args.config_file
+    if config_file is not None:
+        if config_file.name != CONFIG_NAME or not config_file.is_file():
+            hint = (
+                "sitegen reads sitegen.yml, not MkDocs' mkdocs.yml"
+                if config_file.name == "mkdocs.yml"
+                else f"not a {CONFIG_NAME} file"
+            )
+            raise UsageError(f"-f/--config-file {config_file}: {hint}; use --source FOLDER")
+        if config_file.name != CONFIG_NAME:
+            raise UsageError(
+                f"-f/--config-file {config_file}: the file must be named {CONFIG_NAME}"
+            )
+        if source is not None and source.resolve() != config_file.parent.resolve():
+            raise UsageError("--source and -f/--config-file name different projects")
+        return config_file.parent
+    if source is not None:
+        return source
+    here = Path.cwd()
+    if (here / CONFIG_NAME).is_file():
+        return Path(".")
+    for folder in here.parents:
+        if (folder / CONFIG_NAME).is_file():
+            from sitegen.config import load_config
+
+            content = load_config(folder).content_path.resolve()
+            if here == content or here.is_relative_to(content):
+                if args.verbosity >= 0:
+                    print(
+                        f"sitegen: {here} is in the content folder of the project {folder}: "
+                        "building that project",
+                        file=sys.stderr,
+                    )
+                return folder
+            break
+    return Path(".")
+
+
+class UsageError(Exception):
+    """A command line that cannot be carried out: one line, exit status 2."""
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -148,6 +353,19 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    if args.top_verbosity is not None and not args.verbosity:
+        args.verbosity = args.top_verbosity
+    try:
+        if hasattr(args, "config_file"):
+            args.source = project_source(args)
+    except UsageError as exc:
+        print(f"sitegen {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except BuildError as exc:
+        for d in exc.diagnostics:
+            print(d, file=sys.stderr)
+        print(f"sitegen: {exc}", file=sys.stderr)
+        return 1
     try:
         if args.command == "build":
             return _build(args)
@@ -158,7 +376,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "check":
             from sitegen.check import check_site
 
-            problems = check_site(args.dir)
+            log = (lambda line: print(line, file=sys.stderr)) if args.verbosity > 0 else None
+            problems = check_site(args.dir, log=log)
             for p in problems:
                 print(p, file=sys.stderr)
             if args.verbosity >= 0 or problems:
@@ -167,7 +386,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "new":
             from sitegen.scaffold import new_site
 
-            return new_site(args.dir, args.title, args.language, args.verbosity)
+            return new_site(args.dir, args.title, args.language, args.verbosity, args.install_from)
         if args.command == "gh-deploy":
             from sitegen.deploy import gh_deploy
 

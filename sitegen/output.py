@@ -143,11 +143,16 @@ def survey(out_dir: Path, manifest: dict[str, list]) -> Survey:
 
 
 def publish(
-    out_dir: Path, files: dict[str, OutFile], manifest: dict[str, list], found: Survey | None = None
+    out_dir: Path,
+    files: dict[str, OutFile],
+    manifest: dict[str, list],
+    found: Survey | None = None,
+    afresh: bool = False,
 ) -> tuple[dict[str, list], list[str]]:
     """Make ``out_dir`` hold exactly ``files``. Returns (new manifest, changed paths).
     ``found``: the :func:`survey` of ``out_dir`` the build took under the same output lock
-    (taken here if not given)."""
+    (taken here if not given). ``afresh`` (``build --clean``): always a new folder swapped in
+    whole, so not even an empty folder is left from before."""
     with output_lock(out_dir):
         if found is None:
             found = survey(out_dir, manifest)
@@ -156,9 +161,9 @@ def publish(
         for rel in linked:
             del now[rel]  # shares its inode (a site written before issue 15): write it anew
         changed = sorted(rel for rel, f in files.items() if now.get(rel) != f.digest)
-        if (changed or removed) and _few(out_dir, changed, removed, len(files)):
+        if (changed or removed) and not afresh and _few(out_dir, changed, removed, len(files)):
             _update_in_place(out_dir, files, changed, removed)
-        elif changed or removed:
+        elif changed or removed or afresh:
             keys = {}  # every file is written anew into a new folder: new inodes
             with staging(out_dir) as tmp:
                 for rel in sorted(files):

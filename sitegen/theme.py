@@ -10,19 +10,20 @@ from __future__ import annotations
 import functools
 import hashlib
 import re
-from importlib import resources
 from pathlib import Path
 from urllib.parse import quote
 
 
 def default_theme_dir() -> Path:
-    """The packaged theme, or the repo's ``templates/`` in a source checkout."""
-    try:
-        path = Path(str(resources.files("sitegen._theme")))
-        if (path / "base.html").is_file():
-            return path
-    except (ModuleNotFoundError, TypeError):
-        pass
+    """The packaged theme, or the repo's ``templates/`` in a source checkout.
+
+    An installed wheel holds the theme at ``sitegen/_theme/`` beside this module (package data
+    of ``sitegen._theme``, mapped from ``templates/`` in pyproject.toml). That package has no
+    ``__init__.py``, so ``importlib.resources.files`` would give a namespace ``MultiplexedPath``
+    whose ``str()`` is not a path: the folder is found by its place instead."""
+    installed = Path(__file__).resolve().parent / "_theme"
+    if (installed / "base.html").is_file():
+        return installed
     return Path(__file__).resolve().parents[1] / "templates"
 
 

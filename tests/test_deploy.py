@@ -119,3 +119,35 @@ def test_gh_deploy_errors_are_one_line(project, tmp_path):
         subprocess.run(["git", "rev-parse", "--verify", "-q", "gh-pages"], cwd=_bare).returncode
         != 0
     )
+
+
+def test_gh_deploy_takes_mkdocs_flags(project, tmp_path):
+    """MkDocs' gh-deploy flags mean the same here: -r/--remote-name, -b/--remote-branch,
+    --no-history (one parentless commit, force-pushed), --force, -d/--site-dir (build there)."""
+    src, bare = project
+    first = run_cli("gh-deploy", "--source", str(src), "-r", "origin", "-b", "pages", "-q")
+    assert first.returncode == 0, first.stderr
+    (src / "content/a.md").write_text("# A\n\nchanged\n", encoding="utf-8")
+    second = run_cli(
+        "gh-deploy",
+        "--source",
+        str(src),
+        "--remote-name",
+        "origin",
+        "--remote-branch",
+        "pages",
+        "-d",
+        str(tmp_path / "elsewhere"),
+    )
+    assert second.returncode == 0, second.stderr
+    assert (tmp_path / "elsewhere/index.html").is_file()
+    assert len(git(bare, "log", "--format=%H", "pages").splitlines()) == 2
+    # --no-history: the branch is one commit without a parent, pushed over the old one
+    again = run_cli("gh-deploy", "--source", str(src), "-b", "pages", "--no-history")
+    assert again.returncode == 0, again.stderr
+    assert len(git(bare, "log", "--format=%H", "pages").splitlines()) == 1
+    # --force (git push --force) and --dirty (the default incremental build) are taken
+    (src / "content/a.md").write_text("# A\n\nthird\n", encoding="utf-8")
+    forced = run_cli("gh-deploy", "--source", str(src), "-b", "pages", "--force", "--dirty")
+    assert forced.returncode == 0, forced.stderr
+    assert "third" in git(bare, "show", "pages:a.html")

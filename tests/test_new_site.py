@@ -4,13 +4,15 @@ a browser (home, a week page with an image, tabs, admonitions, code and a render
 from __future__ import annotations
 
 import re
+import subprocess
 from pathlib import Path
 
 import pytest
 import yaml
 from browser_kit import PHONE, WIDE, chromium, open_page, require_browser, static_server
-from sitegen_helpers import run_cli
+from sitegen_helpers import REPO, run_cli
 
+from sitegen import DISTRIBUTION, RELEASE_TAG, REPOSITORY
 from sitegen.config import _CLIP, _SIMS, _TOP
 
 
@@ -24,7 +26,7 @@ def made(tmp_path_factory) -> Path:
     return root
 
 
-def test_new_site_has_every_part_an_author_needs(made):
+def test_new_site_has_every_part_an_author_needs(made, tmp_path):
     for rel in (
         "sitegen.yml",
         "content/index.md",
@@ -35,6 +37,9 @@ def test_new_site_has_every_part_an_author_needs(made):
         ".github/workflows/check.yml",
         ".gitignore",
         "requirements.txt",
+        "scripts/drive.py",
+        "scenes/rover.simscene.xml",
+        "data/groups.txt",
     ):
         assert (made / rel).is_file(), rel
     config = (made / "sitegen.yml").read_text(encoding="utf-8")
@@ -43,6 +48,58 @@ def test_new_site_has_every_part_an_author_needs(made):
     for key in [*_TOP, *_SIMS, *_CLIP]:
         assert re.search(rf"\b{key}:", config), key
     assert "site/" in (made / ".gitignore").read_text() and (made / "site/index.html").is_file()
+    # what a build leaves in a project (.sitegen-cache/, .sitegen-cache-site/ ...) is ignored
+    (tmp_path / ".gitignore").write_bytes((made / ".gitignore").read_bytes())
+    subprocess.run(["git", "init", "-q", str(tmp_path)], check=True)
+    ignored = subprocess.run(
+        ["git", "check-ignore", "--no-index", ".sitegen-cache/x", ".sitegen-cache-site/x"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+    )
+    assert ignored.stdout.split() == [".sitegen-cache/x", ".sitegen-cache-site/x"]
+
+
+def test_the_readme_tour_runs_in_a_new_site(made):
+    """Every path the README's tour names is in a new site, and its commands run there."""
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    tour = readme.split("## A five-minute tour", 1)[1].split("\n## Remote API", 1)[0]
+    for rel in ("scripts/drive.py", "scenes/rover.simscene.xml", "data/groups.txt"):
+        assert rel in tour and (made / rel).is_file(), rel
+    for args in (
+        ["scene", "show", "scenes/rover.simscene.xml"],
+        ["remote-api", "run", "scripts/drive.py", "--scene", "scenes/rover.simscene.xml"],
+        ["roster", "check", "data/groups.txt"],
+    ):
+        assert " ".join(args) in tour, args
+        done = run_cli(*args, cwd=made)
+        assert done.returncode == 0, done.stderr
+
+
+def test_requirements_pin_where_sitegen_is(tmp_path, monkeypatch):
+    """CI installs sitegen from the project's repository at this version's tag, or from what
+    --from names; never the name `sitegen` from PyPI (another project's)."""
+    from sitegen import scaffold
+
+    monkeypatch.setattr(scaffold, "_installed_from_git", lambda: None)
+    default = scaffold.requirement()
+    assert default == f"{DISTRIBUTION} @ git+{REPOSITORY}@{RELEASE_TAG}"
+    monkeypatch.setattr(scaffold, "_installed_from_git", lambda: "git+https://h/o/r@abc123")
+    assert scaffold.requirement() == f"{DISTRIBUTION} @ git+https://h/o/r@abc123"
+    url = "git+https://example.org/me/sitegen@v9"
+    assert scaffold.requirement(url) == f"{DISTRIBUTION} @ {url}"
+    assert scaffold.requirement(f"{DISTRIBUTION}==0.2") == f"{DISTRIBUTION}==0.2"
+    wheel = tmp_path / "x.whl"
+    wheel.write_bytes(b"")
+    assert scaffold.requirement(str(wheel)) == f"{DISTRIBUTION} @ {wheel.as_uri()}"
+    with pytest.raises(ValueError, match="no such file"):
+        scaffold.requirement(str(tmp_path / "missing"))
+    made = run_cli("new", str(tmp_path / "n"), "--from", url)
+    assert made.returncode == 0, made.stderr
+    lines = (tmp_path / "n/requirements.txt").read_text(encoding="utf-8").splitlines()
+    assert lines[-1] == f"{DISTRIBUTION} @ {url}" and "warning" not in made.stderr
+    bad = run_cli("new", str(tmp_path / "m"), "--from", str(tmp_path / "missing"))
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
 
 
 def test_new_site_workflows_build_strictly_with_current_actions(made):

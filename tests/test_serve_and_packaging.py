@@ -69,7 +69,7 @@ def test_wheel_contains_theme_and_all_packages(tmp_path):
         timeout=300,
     )
     assert result.returncode == 0, result.stderr[-2000:]
-    wheel = next(tmp_path.glob("sitegen-*.whl"))
+    wheel = next(tmp_path.glob("*.whl"))
     names = set(zipfile.ZipFile(wheel).namelist())
     for needed in (
         "sitegen/_theme/base.html",
@@ -84,6 +84,9 @@ def test_wheel_contains_theme_and_all_packages(tmp_path):
         "sitegen/starter/sitegen.yml",
         "sitegen/starter/content/stage-1/w1/cart.svg",
         "sitegen/starter/github/workflows/pages.yml",
+        "sitegen/starter/scripts/drive.py",
+        "sitegen/starter/scenes/rover.simscene.xml",
+        "sitegen/starter/data/groups.txt",
         "sitegen/cli.py",
         "roster/__init__.py",
         "sims/world.py",
@@ -96,3 +99,6 @@ def test_wheel_contains_theme_and_all_packages(tmp_path):
     }
     in_wheel = {n.rsplit("/", 1)[0] for n in names if n.endswith("__init__.py")}
     assert on_disk <= in_wheel, f"packages missing from pyproject: {sorted(on_disk - in_wheel)}"
+    # the licence pyproject names travels with the wheel
+    assert any(n.endswith(".dist-info/licenses/LICENSE") or n.endswith("/LICENSE") for n in names)
+    assert "MIT License" in (REPO / "LICENSE").read_text(encoding="utf-8")

@@ -44,7 +44,7 @@ def test_an_installed_wheel_builds_2w1a_from_its_own_package_data(tmp_path):
         timeout=300,
     )
     assert built.returncode == 0, built.stderr[-2000:]
-    wheel = next(tmp_path.glob("sitegen-*.whl"))
+    wheel = next(tmp_path.glob("*.whl"))
     names = set(zipfile.ZipFile(wheel).namelist())
     assert {"sims/scene/bundled/2w1a.scene.json", "sims/scene/bundled/README.md"} <= names
     target = tmp_path / "installed"

@@ -38,6 +38,10 @@ LOCAL = {
         "python3 -m pytest -q --collect-only -p no:cacheprovider",
         "the whole suite is what runs this test: every test module must import and collect",
     ),
+    ". .venv/bin/activate": (
+        ":",
+        "setup only had its syntax checked, so there is no .venv: this interpreter's is used",
+    ),
     "python3 -m pip install -q -e .": (
         "python3 -m pip install -q --dry-run --no-deps -e .",
         "the package must build and resolve; installing it would re-point this machine's install",
@@ -197,6 +201,23 @@ def test_local_forms_are_used() -> None:
     text = CI.read_text(encoding="utf-8") + PAGES.read_text(encoding="utf-8")
     for fragment in LOCAL:
         assert fragment in text, f"LOCAL names {fragment!r}, which no workflow runs any more"
+
+
+def readme_commands() -> list[str]:
+    """The README's two commands: the first lines of its first code block."""
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    block = text.split("```", 2)[1]
+    return [line for line in block.splitlines()[1:] if line.strip()]
+
+
+def test_readme_ci_and_ci_run_share_the_test_command() -> None:
+    build, tests = readme_commands()
+    assert "venv" in build and "pip install ." in build and "sitegen build" in build
+    assert "-e" not in build.split(), "the README installs as a user does, not editable"
+    run_lines = (REPO / ".ci/run").read_text(encoding="utf-8").splitlines()
+    assert any(line.startswith(tests) for line in run_lines), ".ci/run does not run it"
+    ci_runs = [str(s["run"]).strip() for s in steps(load(CI)) if "run" in s]
+    assert tests in ci_runs, "ci.yml's test step is not the README's test command"
 
 
 # --- what only GitHub runs: structure ----------------------------------------------------
