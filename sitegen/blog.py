@@ -12,6 +12,7 @@ error naming its file; a date that does not parse is one naming its line (conten
 from __future__ import annotations
 
 import hashlib
+import re
 from dataclasses import replace
 from html import escape
 from pathlib import PurePosixPath
@@ -55,6 +56,39 @@ def _href(from_url: str, to_url: str) -> str:
     from sitegen.links import relative, url_quote
 
     return url_quote(relative(from_url, to_url))
+
+
+SUMMARY_CHARS = 280  # a post without ``summary:`` shows the start of its text
+_FENCE = re.compile(r"^\s*(`{3,}|~{3,})")
+_SKIP = ("#", ":::", "!!!", "???", "===", "|", "<", "{:", "[^", "Note:", "Notes:", "---")
+_MARKER = re.compile(r"^(?:[-*+]|\d+[.)]|>)\s+")
+
+
+def excerpt(markdown: str) -> str:
+    """The start of a post's text as a reader reads it, for the blog's lists and its feed:
+    paragraphs, list items and quotes with their inline markup undone; headings, code, tables,
+    HTML and directives left out. Cut at a space near :data:`SUMMARY_CHARS` (CJK text, which
+    has no spaces, at the limit), with an ellipsis."""
+    from sitegen.page_text import plain_title
+
+    words, fenced = [], False
+    for line in markdown.splitlines():
+        if _FENCE.match(line):
+            fenced = not fenced
+            continue
+        text = line.strip()
+        if fenced or not text or text.startswith(_SKIP):
+            continue
+        words.append(plain_title(_MARKER.sub("", text)))
+        if sum(len(w) for w in words) > SUMMARY_CHARS:
+            break
+    text = re.sub(r"<[^>]*>", "", " ".join(words))
+    text = " ".join(text.split())
+    if len(text) <= SUMMARY_CHARS:
+        return text
+    cut = text[:SUMMARY_CHARS]
+    space = cut.rfind(" ")
+    return (cut[:space] if space > SUMMARY_CHARS // 2 else cut).rstrip(" ,.;:，。、；：") + "…"
 
 
 class BlogIntegration(Integration):
@@ -102,7 +136,8 @@ class BlogIntegration(Integration):
             self.tag_slugs[tag] = unique(slugify(tag, "tag"), taken)
         changed: dict[int, PageInput] = {}
         for rank, p in enumerate(dated):
-            self.meta[p.rel] = p.meta
+            # the lists and the feed show the same words: the author's summary, else an excerpt
+            self.meta[p.rel] = {**p.meta, "summary": p.meta.get("summary") or excerpt(p.text)}
             text, first = insert_under_title(p.text, p.body_line, "::: blog post")
             changed[id(p)] = replace(p, text=text, body_line=first, meta={**p.meta, "weight": rank})
         if index is not None:

@@ -9,7 +9,7 @@ from sitegen.config import Config
 from sitegen.nav import Node
 from sitegen.post_dates import atom_time
 
-SUMMARY_CHARS = 280  # a post without ``summary:`` shows the start of its text
+SUMMARY_CHARS = 280  # used when an entry has no summary (sitegen.blog.excerpt makes one)
 
 
 def _abs(base_url: str, url: str) -> str:

@@ -251,6 +251,9 @@ def read_inputs(opts: BuildOptions, paths: tuple, diags: Diagnostics) -> Inputs 
         return None
     known = {} if opts.clean else Cache(cache_dir).load_sources(content_root.resolve())
     tree = scan(content_root, diags, exclude={output, cache_dir}, known=known, walked=walked)
+    if config.source_file and config.source_file.parent.resolve() == content_root.resolve():
+        # content_dir: "." (docs/ is one): the project's settings are not a file of the site
+        tree.assets = [a for a in tree.assets if str(a.rel) != config.source_file.name]
     return Inputs(
         config,
         content_root,

@@ -15,6 +15,25 @@ from typing import Any
 
 _HEADING = re.compile(r"^(#{1,6})[ \t]+(.+?)[ \t]*#*[ \t]*$")
 _FENCE = re.compile(r"^\s*(```|~~~)")
+# Inline Markdown in a heading, for its plain-text title (menu, <title>, h1, search, slug):
+# `code`, [text](url) and ![alt](src), **strong**/__strong__, *em*, and backslash escapes.
+_INLINE = (
+    (re.compile(r"(`+)\s?(.+?)\s?\1"), r"\2"),
+    (re.compile(r"!?\[([^\]]*)\]\([^)]*\)"), r"\1"),
+    (re.compile(r"(\*\*|__)(?=\S)(.+?)(?<=\S)\1"), r"\2"),
+    (re.compile(r"\*(?=\S)([^*]+?)(?<=\S)\*"), r"\1"),
+    (re.compile(r"\\([\\`*_{}\[\]()#+\-.!|])"), r"\1"),
+)
+
+
+def plain_title(heading: str) -> str:
+    """A heading's text as a reader sees it: ``Preview: `sitegen serve``` -> ``Preview: sitegen
+    serve``. Only what is cheap to undo without a Markdown parser (headings are short)."""
+    if not any(c in heading for c in "`[*_\\"):
+        return heading
+    for pattern, keep in _INLINE:
+        heading = pattern.sub(keep, heading)
+    return heading.strip()
 
 
 def first_heading(text: str) -> tuple[str | None, int, bool]:
@@ -36,7 +55,7 @@ def first_heading(text: str) -> tuple[str | None, int, bool]:
             continue
         m = _HEADING.match(line)
         if m:
-            return m.group(2).strip(), len(m.group(1)), not seen_content
+            return plain_title(m.group(2).strip()), len(m.group(1)), not seen_content
         if line.strip():
             seen_content = True
     return None, 0, False

@@ -30,7 +30,11 @@ _NEXT = re.compile(r"^---[ \t]*$")
 _DOWN = re.compile(r"^--[ \t]*$")
 _NOTE = re.compile(r"^Notes?:[ \t]*(.*?)[ \t]*$")
 _SPLIT = re.compile(r"<!--slide:(next|down)-->(?:<hr[^>]*>)?")
-_NOTES = re.compile(r'<!--slide:notes--><p class="slide-notes-label">.*?</p>', re.S)
+_NOTES = re.compile(
+    r'<!--slide:notes-->(?:<div class="slide-notes" hidden>)?<p class="slide-notes-label">.*?</p>',
+    re.S,
+)
+_NOTES_END = "</div><!--/slide:notes-->"
 _DECK_LINK = re.compile(r"<!--slide:deck-->.*?<!--/slide:deck-->", re.S)
 
 LABELS = {
@@ -47,6 +51,9 @@ LABELS = {
         "notes_view": "Notes view (S)",
         "print": "Printable view",
         "help": "Arrows, space, Home/End or swipe to move; F full screen; S notes",
+        "below": "more below: ↓",
+        "below_label": "Sub-slides below this one (↓)",
+        "theme": "Light or dark",
     },
     "zh-TW": {
         "slides": "投影片",
@@ -61,6 +68,9 @@ LABELS = {
         "notes_view": "備註檢視 (S)",
         "print": "列印檢視",
         "help": "方向鍵、空白鍵、Home/End 或滑動換頁；F 全螢幕；S 備註",
+        "below": "下方還有：↓",
+        "below_label": "這張下方還有子投影片 (↓)",
+        "theme": "淺色或深色",
     },
 }
 
@@ -127,7 +137,7 @@ def split_deck(body: str, title: str | None) -> list[list[dict]]:
             content, _, notes = chunk.partition("<!--slide:notes-->")
             content = content.strip()
             notes = _NOTES.sub("", "<!--slide:notes-->" + notes if notes else "")
-            notes = notes.replace("<!--slide:notes-->", "").strip()
+            notes = notes.replace("<!--slide:notes-->", "").replace(_NOTES_END, "").strip()
             notes = re.sub(r'^<p class="slide-notes-label">.*?</p>', "", notes, flags=re.S)
             if content or notes:
                 slides.append({"html": Markup(content), "notes": Markup(notes.strip())})
@@ -164,9 +174,10 @@ class SlidesIntegration(Integration):
         out = []
         for page in inputs:
             if self.is_deck(page):
-                text, first = insert_under_title(
-                    mark_separators(page.text), page.body_line, "::: slide deck"
-                )
+                marked = mark_separators(page.text)
+                if "::: slide notes" in marked:  # a line after the last: no line moves
+                    marked = marked.rstrip("\n") + "\n\n::: slide end\n"
+                text, first = insert_under_title(marked, page.body_line, "::: slide deck")
                 page = replace(page, text=text, body_line=first)
                 self.decks.append(page.rel)
             out.append(page)
@@ -177,24 +188,43 @@ class SlidesIntegration(Integration):
 
     def directives(self) -> dict:
         labels = self.labels
+        # Speaker notes are for the presenter: on the page they are a hidden block, opened at
+        # `Note:` and closed at the next separator or the page's end (`::: slide end`). A
+        # page's directives are expanded in order, each page at once, so the open block is
+        # known per page.
+        notes_open: set[str] = set()
+
+        def close(node: Node) -> str:
+            if node.url in notes_open:
+                notes_open.discard(node.url)
+                return _NOTES_END
+            return ""
 
         def slide(arg: str, node: Node) -> str:
             kind, _, rest = arg.partition(" ")
             if kind == "next":
-                return '<!--slide:next--><hr class="slide-break">'
+                return close(node) + '<!--slide:next--><hr class="slide-break">'
             if kind == "down":
-                return '<!--slide:down--><hr class="slide-break slide-down">'
+                return close(node) + '<!--slide:down--><hr class="slide-break slide-down">'
+            if kind == "end":
+                return close(node)
             if kind == "notes":
                 extra = _inline(rest) if rest.strip() else ""
+                if node.url in notes_open:
+                    return extra
+                notes_open.add(node.url)
                 label = f'<p class="slide-notes-label">{escape(labels["notes"])}</p>'
-                return f"<!--slide:notes-->{label}{extra}"
+                return f'<!--slide:notes--><div class="slide-notes" hidden>{label}{extra}'
             if kind == "deck":
+                notes_open.discard(node.url)
                 href = quote(deck_url(node.url).rsplit("/", 1)[-1])
                 return (
                     f'<!--slide:deck--><p class="slides-link"><a href="{href}">'
                     f"▶ {escape(labels['slides'])}</a></p><!--/slide:deck-->"
                 )
-            raise LookupError(f"unknown slide directive '{kind}' (known: next, down, notes, deck)")
+            raise LookupError(
+                f"unknown slide directive '{kind}' (known: next, down, notes, end, deck)"
+            )
 
         return {"slide": slide}
 

@@ -56,7 +56,7 @@ def hrefs(html: str) -> list[str]:
 
 def pager(html: str) -> tuple[str | None, str | None]:
     """(previous title, next title) from a page's first pager."""
-    nav = re.search(r'<nav class="pager">(.*?)</nav>', html, re.S).group(1)
+    nav = re.search(r'<nav class="pager"[^>]*>(.*?)</nav>', html, re.S).group(1)
     prev = re.search(r'rel="prev"[^>]*>« [^:]+: (.*?)</a>', nav)
     nxt = re.search(r'rel="next"[^>]*>[^:]+: (.*?) »</a>', nav)
     return (prev.group(1) if prev else None, nxt.group(1) if nxt else None)

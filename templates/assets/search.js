@@ -9,6 +9,9 @@
   var docs = window.SITEGEN_SEARCH || [];
   var CJK = /[\u3040-\u30ff\u3400-\u4dbf\u4e00-\u9fff\uf900-\ufaff\uac00-\ud7af]/;
   var index = null;
+  // Tables keyed by words from the pages have no prototype: a page holding "constructor" or
+  // "__proto__" must find its own entry, never Object.prototype's.
+  function table() { return Object.create(null); }
 
   function tokens(text) {
     var out = [], word = "", cjk = "";
@@ -30,7 +33,7 @@
   }
 
   function build() {
-    index = { words: {}, grams: {} };
+    index = { words: table(), grams: table() };
     docs.forEach(function (d, id) {
       tokens(d.t + " " + d.x).forEach(function (tok) {
         var table = tok.w ? index.words : index.grams, key = tok.w || tok.c;
@@ -44,13 +47,13 @@
   function postings(tok) {
     if (tok.c) {
       if (tok.c.length === 2) return index.grams[tok.c] || [];
-      var hits = {};  // a single CJK character: any bigram containing it
+      var hits = table();  // a single CJK character: any bigram containing it
       Object.keys(index.grams).forEach(function (g) {
         if (g.indexOf(tok.c) >= 0) index.grams[g].forEach(function (id) { hits[id] = 1; });
       });
       return Object.keys(hits).map(Number);
     }
-    var seen = {};  // words match by prefix: "gear" finds "gears"
+    var seen = table();  // words match by prefix: "gear" finds "gears"
     for (var i = lowerBound(index.wordKeys, tok.w); i < index.wordKeys.length && index.wordKeys[i].indexOf(tok.w) === 0; i++) {
       index.words[index.wordKeys[i]].forEach(function (id) { seen[id] = 1; });
     }
@@ -71,7 +74,7 @@
     terms.forEach(function (term) {
       var toks = tokens(term);
       toks.forEach(function (tok) {
-        var set = {};
+        var set = table();
         postings(tok).forEach(function (id) { set[id] = 1; });
         candidates = candidates === null ? set : filter(candidates, set);
       });
@@ -91,7 +94,7 @@
     return results;
   }
 
-  function filter(a, b) { var out = {}; Object.keys(a).forEach(function (k) { if (b[k]) out[k] = 1; }); return out; }
+  function filter(a, b) { var out = table(); Object.keys(a).forEach(function (k) { if (b[k]) out[k] = 1; }); return out; }
   function count(text, term) { var n = 0, at = text.indexOf(term); while (at >= 0 && n < 50) { n++; at = text.indexOf(term, at + term.length); } return n; }
 
   // Where each heading's title sits in the page text, so a match can name its section.
@@ -108,7 +111,7 @@
 
   // The sections of a page that hold the query: [{id, title, at}], the page's top first.
   function sections(d, terms, most) {
-    var lower = d.x.toLowerCase(), heads = headingsOf(d), out = [], seen = {};
+    var lower = d.x.toLowerCase(), heads = headingsOf(d), out = [], seen = table();
     for (var n = 0, at = lower.indexOf(terms[0]); at >= 0 && n < 200 && out.length < most; n++) {
       var h = null;
       for (var i = 0; i < heads.length && heads[i].at <= at; i++) h = heads[i];

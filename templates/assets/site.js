@@ -6,7 +6,7 @@
   var d = document, html = d.documentElement, body = d.body, root = html.getAttribute("data-root") || "";
   function $(s, el) { return (el || d).querySelector(s); }
   function all(s, el) { return Array.prototype.slice.call((el || d).querySelectorAll(s)); }
-  var loads = {};
+  var loads = Object.create(null);
   function need(src, done) {  // load assets/<src> once, then call done
     var l = loads[src];
     if (l === true) return done();
@@ -71,7 +71,7 @@
       }
       need("nav.js", function () {
         if ($(":scope > ul", li)) return;
-        if (!byUrl) { byUrl = {}; fill(window.SITEGEN_NAV || []); }
+        if (!byUrl) { byUrl = Object.create(null); fill(window.SITEGEN_NAV || []); }
         ul = d.createElement("ul");
         (byUrl[li.getAttribute("data-s")] || []).forEach(function (n) {
           var c = d.createElement("li"), a = d.createElement("a");
@@ -88,18 +88,30 @@
   }
   all("#nav li[data-s]").forEach(foldButton);
 
-  // On this page: mark the heading being read.
+  // On this page: mark the heading being read -- the last one scrolled past the top bar; near
+  // the end of the page, where the last sections cannot reach the top, the heading the reader
+  // jumped to (the address's #id) or else the last one in view.
+  function byId(hash) {  // "#id" as written in a link or percent-encoded in the address
+    try { return d.getElementById(decodeURIComponent(hash.slice(1))); } catch (e) { return d.getElementById(hash.slice(1)); }
+  }
   var tocLinks = all(".toc a"), heads = tocLinks.map(function (a) {
-    return d.getElementById(a.getAttribute("href").slice(1));
+    return byId(a.getAttribute("href"));
   }), ticking = false;
   function mark() {
     ticking = false;
-    var top = $(".topbar").offsetHeight + 24, at = 0;
+    var top = $(".topbar").offsetHeight + 24, at = 0, view = window.innerHeight;
     heads.forEach(function (h, i) { if (h && h.getBoundingClientRect().top <= top) at = i; });
+    var end = window.scrollY + view >= d.documentElement.scrollHeight - 4;
+    var jumped = location.hash ? heads.indexOf(byId(location.hash)) : -1;
+    if (jumped > at && heads[jumped].getBoundingClientRect().top < view) at = jumped;
+    else if (end && jumped < 0) {
+      heads.forEach(function (h, i) { if (h && i > at && h.getBoundingClientRect().top < view) at = i; });
+    }
     tocLinks.forEach(function (a, i) { a.classList.toggle("active", i === at); });
   }
   if (tocLinks.length) {
     on(window, "scroll", function () { if (!ticking) { ticking = true; requestAnimationFrame(mark); } });
+    on(window, "hashchange", mark);
     mark();
   }
 

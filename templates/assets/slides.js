@@ -16,6 +16,7 @@ var lastH = flat.length ? flat[flat.length - 1].h : 0;
 var query = location.search;
 var panel = document.getElementById("notes-panel");
 var counter = document.querySelector(".deck-counter");
+var down = document.querySelector(".deck-down");
 var bar = document.querySelector(".deck-progress span");
 var cur = -1;
 var started = Date.now();
@@ -55,6 +56,11 @@ f.el.classList.add("current");
 f.el.removeAttribute("aria-hidden");
 var text = (i + 1) + " / " + flat.length;
 counter.textContent = text;
+// Right/Left move between stacks: say on screen that this one goes on below (sub-slides)
+var below = 0;
+while (find(f.h, f.v + below + 1) >= 0) below++;
+down.hidden = !below;
+down.querySelector("b").textContent = below ? String(below) : "";
 bar.style.width = (flat.length > 1 ? (100 * i) / (flat.length - 1) : 100) + "%";
 body.setAttribute("data-slide", String(i));
 panel.querySelector(".notes-counter").textContent = text;
@@ -143,6 +149,22 @@ document.querySelector(".deck-prev").addEventListener("click", function () {
 show(cur - 1);
 });
 document.querySelector(".deck-full").addEventListener("click", fullScreen);
+down.addEventListener("click", function () {
+go(0, 1);
+});
+// Light/dark: the same choice as the site's pages (assets/site.js), remembered across both.
+document.querySelector(".deck-theme").addEventListener("click", function () {
+var html = document.documentElement;
+var now = html.getAttribute("data-theme") ||
+(matchMedia("(prefers-color-scheme: dark)").matches ? "dark" : "light");
+var next = now === "dark" ? "light" : "dark";
+html.setAttribute("data-theme", next);
+try {
+localStorage.setItem("sitegen-theme", next);
+} catch (e) {
+// private mode: the choice lasts for this page only
+}
+});
 document.querySelector(".deck-notes").addEventListener("click", function () {
 notesView(!body.classList.contains("notes-mode"));
 });
