@@ -154,6 +154,20 @@
     box.insertBefore(b, box.firstChild);
   });
 
+  // Code and tables wider than the page scroll sideways in their box: such a box takes the
+  // keyboard focus (Tab to it, then the arrow keys scroll), as long as it scrolls.
+  var resizing = false;
+  function scrollables() {
+    resizing = false;
+    all(".body pre, .body table").forEach(function (el) {
+      if (el.scrollWidth > el.clientWidth + 1) {
+        if (!el.hasAttribute("tabindex")) el.setAttribute("tabindex", "0");
+      } else if (el.getAttribute("tabindex") === "0") el.removeAttribute("tabindex");
+    });
+  }
+  scrollables();
+  on(window, "resize", function () { if (!resizing) { resizing = true; requestAnimationFrame(scrollables); } });
+
   // Search as you type in the header box: "/" focuses it, arrows move, Enter opens, Esc closes.
   var input = $(".search-box input"), panel = d.getElementById("search-panel"), active = -1;
   if (!input || !panel) return;
