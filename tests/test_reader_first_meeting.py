@@ -152,9 +152,7 @@ def test_the_table_of_contents_marks_the_section_jumped_to(site, browser, size):
 
 def test_the_two_pagers_are_told_apart(site):
     html = (site / "stage-1/long-page.html").read_text(encoding="utf-8")
-    labels = [
-        part.split('"', 2)[1] for part in html.split('<nav class="pager" aria-label=')[1:]
-    ]
+    labels = [part.split('"', 2)[1] for part in html.split('<nav class="pager" aria-label=')[1:]]
     assert len(labels) == 2 and labels[0] != labels[1], labels
 
 
