@@ -77,7 +77,7 @@ def test_default_page_template_renders_as_with_stock_jinja():
     }
     keys = "copy_code copied_code results no_results all_results skip close_menu menu "
     keys += "search_placeholder search site_map theme close_hint built_with breadcrumb "
-    keys += "on_this_page in_this_section previous next"
+    keys += "on_this_page in_this_section previous next pager_top pager_bottom"
     context = {
         "site": {"language": "zh-TW", "title": "課程", "description": "", "author": "cd"},
         "t": {k: k.replace("_", " ") for k in keys.split()},
