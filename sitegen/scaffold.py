@@ -41,6 +41,9 @@ def requirement(spec: str | None = None) -> str:
         if " @ " in spec or VERSIONED.match(spec):
             return spec
         if "://" in spec:
+            if "+" in spec.split("://")[0] and spec.split("://", 1)[1].startswith("/"):
+                # git+file:///path: pip before 23.1 refuses it after "name @ "; bare it is valid
+                return spec
             return f"{DISTRIBUTION} @ {spec}"
         path = Path(spec).expanduser()
         if not path.exists():

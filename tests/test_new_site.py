@@ -89,6 +89,7 @@ def test_requirements_pin_where_sitegen_is(tmp_path, monkeypatch):
     url = "git+https://example.org/me/sitegen@v9"
     assert scaffold.requirement(url) == f"{DISTRIBUTION} @ {url}"
     assert scaffold.requirement(f"{DISTRIBUTION}==0.2") == f"{DISTRIBUTION}==0.2"
+    assert scaffold.requirement("git+file:///srv/clone@v1") == "git+file:///srv/clone@v1"
     wheel = tmp_path / "x.whl"
     wheel.write_bytes(b"")
     assert scaffold.requirement(str(wheel)) == f"{DISTRIBUTION} @ {wheel.as_uri()}"
