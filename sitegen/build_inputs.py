@@ -4,9 +4,6 @@ the digest of the code that makes the site: shared by the build's stages
 
 from __future__ import annotations
 
-import functools
-import hashlib
-import importlib.util
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,16 +35,9 @@ class Inputs:
     found: Survey = field(default_factory=Survey)
 
 
-@functools.cache
 def code_digest() -> str:
-    """Our own code and the Markdown stack are inputs too: an upgrade must rebuild. The
-    libraries' version files are read, not imported (a no-op build needs neither)."""
-    h = hashlib.sha256()
-    for name, version_file in (("markdown", "__meta__.py"), ("pygments", "__init__.py")):
-        spec = importlib.util.find_spec(name)
-        origin = spec.origin if spec else None
-        if origin:
-            h.update(Path(origin).with_name(version_file).read_bytes())
-    for f in sorted(Path(__file__).parent.glob("*.py")):
-        h.update(f.read_bytes())
-    return h.hexdigest()
+    """The code that makes the site, as :func:`located.code_keys.code_key` keys it: the build's
+    import closure (integrations, clips and rosters included) and the libraries it imports."""
+    from located.code_keys import code_key
+
+    return code_key("sitegen.build")

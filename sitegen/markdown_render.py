@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import markdown
-import pygments
 from markdown.extensions import Extension, codehilite
 from markdown.extensions.admonition import AdmonitionExtension
 from markdown.extensions.attr_list import AttrListExtension
@@ -40,9 +39,15 @@ from sitegen.markdown_speed import (
 from sitegen.md_tabs import TabsExtension
 from sitegen.slugs import heading_id
 
-#: Part of every cached fragment's key: bump the number when the rendering below changes; the
-#: Markdown and Pygments versions are in it because their output changes with them.
-RENDER_VERSION = f"md-4/{markdown.__version__}/{pygments.__version__}"
+
+def render_key() -> str:
+    """Part of every cached fragment's and highlighted block's key: the code that renders
+    (this module's import closure, Python-Markdown and Pygments among it;
+    :mod:`located.code_keys`), so that no edit or upgrade is served from an older cache."""
+    from located.code_keys import code_key
+
+    return code_key(__name__)
+
 
 DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
 MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")
