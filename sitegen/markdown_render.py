@@ -28,6 +28,7 @@ from markdown.extensions.toc import TocExtension
 from markdown.preprocessors import Preprocessor
 from pygments.lexers import find_lexer_class_by_name, get_lexer_by_name
 from pygments.util import ClassNotFound
+from pymdownx.tabbed import TabbedExtension
 
 from sitegen.highlight_cache import BLOCKS, LazyLexer
 from sitegen.markdown_speed import (
@@ -36,7 +37,7 @@ from sitegen.markdown_speed import (
     SkippingInlineExtension,
     cached_formatter,
 )
-from sitegen.md_tabs import TabsExtension
+from sitegen.md_nested_fences import NestedFencesExtension
 from sitegen.slugs import heading_id
 
 
@@ -183,7 +184,8 @@ class MarkdownRenderer:
                 ),
                 DirectiveExtension(self._found),
                 AdmonitionExtension(),  # !!! note|tip|warning "title" (reader, issue 17)
-                TabsExtension(),  # === "Windows" content tabs (sitegen/md_tabs.py)
+                TabbedExtension(),  # === "Windows" content tabs (pymdown-extensions)
+                NestedFencesExtension(),  # fenced code inside tabs and admonitions
                 LinearBlocksExtension(),  # blocks as a queue: linear in the page's size
                 SkippingInlineExtension(),  # prose without any inline markup skipped at once
             ],

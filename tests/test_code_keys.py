@@ -19,7 +19,7 @@ def modules(*roots: str) -> set[str]:
 
 def test_markdown_key_covers_what_renders_and_nothing_else():
     found = modules("sitegen.markdown_render")
-    assert {"sitegen.slugs", "sitegen.highlight_cache", "sitegen.md_tabs"} <= found
+    assert {"sitegen.slugs", "sitegen.highlight_cache", "sitegen.md_nested_fences"} <= found
     assert not {m for m in found if m.startswith("sims")}
     assert {"markdown", "pygments"} <= {top for top, _v in third_party("sitegen.markdown_render")}
 
