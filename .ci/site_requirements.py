@@ -1,8 +1,9 @@
 """Print the site half's requirements from pyproject.toml, one a line (for .ci/matrix)."""
 
 import re
-import tomllib
 from pathlib import Path
+
+import tomllib
 
 SITE = {"jinja2", "markdown", "pygments", "pymdown-extensions", "pyyaml", "regex", "rich"}
 
