@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from sitegen import __version__
-from sitegen.build_inputs import Inputs, code_digest
+from sitegen.build_inputs import Inputs, SiteStage, code_digest
 from sitegen.cache import Cache, Fragments, State
 from sitegen.config import Config, load_config
 from sitegen.content import SourcePage, SourceTree, scan
@@ -193,13 +193,10 @@ def _build(opts: BuildOptions, paths: tuple[Config, Path, Path, Path]) -> BuildR
     scratch = inp.output.parent / f".{inp.output.name}.sitegen-building-{os.getpid()}-pages"
     shutil.rmtree(scratch, ignore_errors=True)
     scratch.mkdir(parents=True)
+    stage = SiteStage(inp, site, md, targets, handlers, base, frag, salt, scratch, diags)
     try:
-        phase, files, new_pages = render_pages(
-            inp, site, md, targets, handlers, base, frag, salt, scratch, diags, report
-        )
-        reuse = make_site_files(
-            inp, site, md, targets, handlers, base, phase.menus, frag, files, diags, scratch
-        )
+        phase, files, new_pages = render_pages(stage, report)
+        reuse = make_site_files(stage, phase.menus, files)
         report.diagnostics = check(opts, diags)
         for integ in inp.integrations:
             files.update(integ.files())

@@ -1,14 +1,13 @@
-"""What a build reads before it decides anything (the scan stage's result, plain data), and
-the digest of the code that makes the site: shared by the build's stages
+"""The records a build's stages hand each other: what a build reads before it decides anything
+(:class:`Inputs`, the scan stage's result) and what pages and site-wide files are made from
+(:class:`SiteStage`), and the digest of the code that makes the site; shared by the stages
 (``sitegen.build``, ``sitegen.page_jobs``, ``sitegen.site_files``)."""
 
 from __future__ import annotations
 
-import functools
-import hashlib
-import importlib.util
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from sitegen.cache import State
 from sitegen.config import Config
@@ -16,6 +15,13 @@ from sitegen.content import SourceTree
 from sitegen.integrations import Integration
 from sitegen.output import Survey
 from sitegen.theme import Theme
+
+if TYPE_CHECKING:
+    from sitegen.cache import Fragments
+    from sitegen.errors import Diagnostics
+    from sitegen.links import LinkTargets
+    from sitegen.markdown_stage import MarkdownStage
+    from sitegen.nav import Site
 
 
 @dataclass
@@ -38,16 +44,26 @@ class Inputs:
     found: Survey = field(default_factory=Survey)
 
 
-@functools.cache
+@dataclass
+class SiteStage:
+    """Stages 2-3 (site tree, Markdown, link targets): what the page stage and the site-wide
+    files are made from, and where they write (``scratch``) and report (``diags``)."""
+
+    inp: Inputs
+    site: Site
+    md: MarkdownStage
+    targets: LinkTargets
+    handlers: dict[str, Any]  # directive name -> integration handler
+    base: dict[str, Any]  # the site context every template gets (sitegen.pages.site_context)
+    frag: Fragments  # the last build's cache entries; the new ones are written into it
+    salt: str  # the links digest and the integrations' fingerprints
+    scratch: Path
+    diags: Diagnostics
+
+
 def code_digest() -> str:
-    """Our own code and the Markdown stack are inputs too: an upgrade must rebuild. The
-    libraries' version files are read, not imported (a no-op build needs neither)."""
-    h = hashlib.sha256()
-    for name, version_file in (("markdown", "__meta__.py"), ("pygments", "__init__.py")):
-        spec = importlib.util.find_spec(name)
-        origin = spec.origin if spec else None
-        if origin:
-            h.update(Path(origin).with_name(version_file).read_bytes())
-    for f in sorted(Path(__file__).parent.glob("*.py")):
-        h.update(f.read_bytes())
-    return h.hexdigest()
+    """The code that makes the site, as :func:`located.code_keys.code_key` keys it: the build's
+    import closure (integrations, clips and rosters included) and the libraries it imports."""
+    from located.code_keys import code_key
+
+    return code_key("sitegen.build")

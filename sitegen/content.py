@@ -130,53 +130,74 @@ def parse_front_matter(raw: str, file: str, diags: Diagnostics) -> tuple[dict[st
     meta: dict[str, Any] = {}
     if node is None:
         return meta, body, end + 2
+    from located.yamlwalk import Walker
+
     if not isinstance(node, yaml.MappingNode):
         diags.error(file, 2, "front matter", "must be a mapping of keys to values")
         return meta, body, end + 2
-    for knode, vnode in node.value:
-        key, line = str(knode.value), knode.start_mark.line + 2
-        try:
-            value = located_yaml.to_python(vnode)
-        except ValueError as exc:  # a timestamp that is no date (2021-02-30): YAML raises
-            if not isinstance(vnode, yaml.ScalarNode):
-                diags.error(file, line, key, f"cannot be read: {exc}")
-                continue
-            value = str(vnode.value)  # the text as written: a title, or a date reported below
-        want = _FRONT_KEYS.get(key)
-        if want is None:
-            diags.error(
-                file,
-                line,
-                key,
-                f"unknown front matter key (allowed: {', '.join(sorted(_FRONT_KEYS))})",
-            )
-        elif want is int and (isinstance(value, bool) or not isinstance(value, int)):
-            diags.error(
-                file, line, key, f"must be a whole number, got {located_yaml.short_repr(value)}"
-            )
-        elif value is None:
-            diags.error(file, line, key, "has no value")
-        elif want in ("date", "tags"):
-            checked = _post_value(want, value)
-            if checked is None or (want == "tags" and isinstance(checked, str)):
-                bad = _BAD_DATE.format(located_yaml.short_repr(value))
-                diags.error(file, line, key, checked or bad)
-            else:
-                meta[key] = checked
-        elif want is str and not isinstance(value, (str, int, float)):
-            diags.error(file, line, key, f"must be text, got {located_yaml.short_repr(value)}")
-        elif want is bool and not isinstance(value, bool):
-            diags.error(
-                file, line, key, f"must be true or false, got {located_yaml.short_repr(value)}"
-            )
-        else:
-            meta[key] = str(value) if want is str else value
+    walk = Walker(file, first_line=2)
+    for key, _knode, vnode in walk.mapping(node, "front matter", allowed=_FRONT_KEYS):
+        value = _front_value(walk, key, vnode)
+        if value is not None:
+            meta[key] = value
+    diags.extend(_named_by_key(walk.problems))
     if "order" in meta and "weight" not in meta:
         meta["weight"] = meta.pop("order")
     return meta, body, end + 2
 
 
 _BAD_DATE = "not a date: {} (write YYYY-MM-DD or YYYY-MM-DD HH:MM)"
+
+
+def _front_value(walk: Any, key: str, vnode: Any) -> Any:
+    """One front matter value checked against :data:`_FRONT_KEYS` (None, with a problem
+    recorded at its line, when it is not what the key takes)."""
+    import yaml
+
+    from located.yaml import short_repr, to_python
+
+    try:
+        value = to_python(vnode)
+    except ValueError as exc:  # a timestamp that is no date (2021-02-30): YAML raises
+        if not isinstance(vnode, yaml.ScalarNode):
+            walk.fail(vnode, key, f"cannot be read: {exc}")
+            return None
+        value = str(vnode.value)  # the text as written: a title, or a date reported below
+    want = _FRONT_KEYS[key]
+    problem = None
+    if value is None:
+        problem = "has no value"
+    elif want is int and (isinstance(value, bool) or not isinstance(value, int)):
+        problem = f"must be a whole number, got {short_repr(value)}"
+    elif want in ("date", "tags"):
+        checked = _post_value(want, value)
+        if checked is None or (want == "tags" and isinstance(checked, str)):
+            problem = checked or _BAD_DATE.format(short_repr(value))
+        else:
+            return checked
+    elif want is str and not isinstance(value, (str, int, float)):
+        problem = f"must be text, got {short_repr(value)}"
+    elif want is bool and not isinstance(value, bool):
+        problem = f"must be true or false, got {short_repr(value)}"
+    if problem is not None:
+        walk.fail(vnode, key, problem)
+        return None
+    return str(value) if want is str else value
+
+
+def _named_by_key(problems: list) -> list:
+    """Front matter problems name the key (``title``), not its path (``front matter.title``);
+    an unknown key's message lists the keys a page takes."""
+    import dataclasses
+
+    out = []
+    for d in problems:
+        field = d.field.removeprefix("front matter.")
+        message = d.message
+        if message.startswith("unknown key"):
+            message = f"unknown front matter key (allowed: {', '.join(sorted(_FRONT_KEYS))})"
+        out.append(dataclasses.replace(d, field=field, message=message))
+    return out
 
 
 def _post_value(want: str, value: Any) -> Any:

@@ -17,6 +17,7 @@ The output is byte-identical to calling Pygments every time (``tests/test_highli
 
 from __future__ import annotations
 
+import functools
 import hashlib
 from collections import OrderedDict
 from collections.abc import Callable
@@ -65,15 +66,21 @@ class HighlightCache:
         #: the store's lookup, set by the Markdown stage when a store with blocks exists
         self.lookup: Callable[[str], str | None] | None = None
 
+    @functools.cached_property
+    def code(self) -> str:
+        """The code that highlights (Pygments, our lexing and rendering modules) as
+        :mod:`located.code_keys` keys it: part of every block's key."""
+        from located.code_keys import code_key
+
+        return code_key("sitegen.markdown_render")
+
     def highlight(self, src: str, lexer: Any, formatter: Any) -> str:
         """``pygments.highlight(src, lexer, formatter)``, from the cache when it has it (only
         blocks of a :class:`LazyLexer`, whose key names its class and options, are kept)."""
         if not isinstance(lexer, LazyLexer):
             return pygments.highlight(src, lexer, formatter)
         form_key = repr(sorted(formatter.options.items()))
-        key = hashlib.sha256(
-            f"{pygments.__version__}\0{lexer.key}\0{form_key}\0{src}".encode()
-        ).hexdigest()
+        key = hashlib.sha256(f"{self.code}\0{lexer.key}\0{form_key}\0{src}".encode()).hexdigest()
         self.used.append(key)
         html = self.memo.get(key)
         if html is not None:

@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import markdown
-import pygments
 from markdown.extensions import Extension, codehilite
 from markdown.extensions.admonition import AdmonitionExtension
 from markdown.extensions.attr_list import AttrListExtension
@@ -29,6 +28,7 @@ from markdown.extensions.toc import TocExtension
 from markdown.preprocessors import Preprocessor
 from pygments.lexers import find_lexer_class_by_name, get_lexer_by_name
 from pygments.util import ClassNotFound
+from pymdownx.tabbed import TabbedExtension
 
 from sitegen.highlight_cache import BLOCKS, LazyLexer
 from sitegen.markdown_speed import (
@@ -37,12 +37,18 @@ from sitegen.markdown_speed import (
     SkippingInlineExtension,
     cached_formatter,
 )
-from sitegen.md_tabs import TabsExtension
+from sitegen.md_nested_fences import NestedFencesExtension
 from sitegen.slugs import heading_id
 
-#: Part of every cached fragment's key: bump the number when the rendering below changes; the
-#: Markdown and Pygments versions are in it because their output changes with them.
-RENDER_VERSION = f"md-4/{markdown.__version__}/{pygments.__version__}"
+
+def render_key() -> str:
+    """Part of every cached fragment's and highlighted block's key: the code that renders
+    (this module's import closure, Python-Markdown and Pygments among it;
+    :mod:`located.code_keys`), so that no edit or upgrade is served from an older cache."""
+    from located.code_keys import code_key
+
+    return code_key(__name__)
+
 
 DIRECTIVE = re.compile(r"^:::[ \t]*([a-z][a-z0-9-]*)[ \t]+(\S.*?)[ \t]*$")
 MARKER = re.compile(r"<!--sitegen:([a-z][a-z0-9-]*):(.*?)-->")
@@ -178,7 +184,8 @@ class MarkdownRenderer:
                 ),
                 DirectiveExtension(self._found),
                 AdmonitionExtension(),  # !!! note|tip|warning "title" (reader, issue 17)
-                TabsExtension(),  # === "Windows" content tabs (sitegen/md_tabs.py)
+                TabbedExtension(),  # === "Windows" content tabs (pymdown-extensions)
+                NestedFencesExtension(),  # fenced code inside tabs and admonitions
                 LinearBlocksExtension(),  # blocks as a queue: linear in the page's size
                 SkippingInlineExtension(),  # prose without any inline markup skipped at once
             ],

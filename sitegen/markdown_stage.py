@@ -41,7 +41,7 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
     """Convert what the cache does not hold; ``frag.markdown`` is left holding exactly the
     summaries of the sources the site uses now."""
     from sitegen.highlight_cache import BLOCKS
-    from sitegen.markdown_render import RENDER_VERSION, Rendered, plain_text
+    from sitegen.markdown_render import Rendered, plain_text, render_key
 
     held: dict[str, Rendered] = {}
     sources: dict[str, str] = {}
@@ -49,6 +49,7 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
     summaries: dict[str, tuple] = {}
     misses: dict[str, tuple[str, str, bool]] = {}  # key -> (key, text, strip first heading)
     stored = store.keys() if frag.markdown else set()
+    code = render_key()
     for node in site.order:
         src = node.source
         if src is None:  # a folder without index.md: the template lists its children
@@ -65,9 +66,7 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
             continue
         # the text's own key where the scan made one: an unchanged page's text is not read
         text = src.text_key or text_key(src.text)
-        key = hashlib.sha256(
-            f"{RENDER_VERSION}\0{node.strip_first_heading}\0{text}".encode()
-        ).hexdigest()
+        key = hashlib.sha256(f"{code}\0{node.strip_first_heading}\0{text}".encode()).hexdigest()
         sources[node.url] = from_store[node.url] = key
         if key not in frag.markdown or key not in stored:
             misses.setdefault(key, (key, src.text, node.strip_first_heading))

@@ -35,7 +35,7 @@ from sitegen.pages import Menus, MenuSignatures, PageBody, context_hash, page_co
 from sitegen.theme import Theme
 
 if TYPE_CHECKING:
-    from sitegen.build_inputs import Inputs
+    from sitegen.build_inputs import SiteStage
 
 
 @dataclass
@@ -177,42 +177,31 @@ class PagePhase:
         return result
 
 
-def render_pages(
-    inp: Inputs,
-    site,
-    md,
-    targets,
-    handlers: dict,
-    base: dict,
-    frag,
-    salt: str,
-    scratch: Path,
-    diags: Diagnostics,
-    report,
-):
-    """Stage 4: every page whose inputs changed rendered to ``scratch`` (in workers when many);
-    the others reused from the output. Returns (the page phase, output files, the pages' cache
-    entries)."""
+def render_pages(stage: SiteStage, report: Any) -> tuple[PagePhase, dict[str, Any], dict]:
+    """Stage 4: every page whose inputs changed rendered to ``stage.scratch`` (in workers when
+    many); the others reused from the output. Returns (the page phase, output files, the
+    pages' cache entries)."""
     from sitegen.output import OutFile
     from sitegen.workers import run_chunks
 
+    inp, site, frag, scratch, diags = stage.inp, stage.site, stage.frag, stage.scratch, stage.diags
     phase = PagePhase(
-        site,
-        md.renders,
-        md.sources,
-        {url: s[1] for url, s in md.summaries.items()},
-        targets,
-        handlers,
-        inp.theme,
-        inp.theme_digest,
-        base,
-        inp.content_root.name,
-        inp.output,
-        inp.state.manifest,
-        inp.found,
-        frag.pages,
-        scratch,
-        salt,
+        site=site,
+        renders=stage.md.renders,
+        sources=stage.md.sources,
+        tocs={url: s[1] for url, s in stage.md.summaries.items()},
+        targets=stage.targets,
+        handlers=stage.handlers,
+        theme=inp.theme,
+        theme_digest=inp.theme_digest,
+        base=stage.base,
+        content_name=inp.content_root.name,
+        output=inp.output,
+        manifest=inp.state.manifest,
+        found=inp.found,
+        old_pages=frag.pages,
+        scratch=scratch,
+        salt=stage.salt,
     )
     results: dict[str, PageResult] = {}
     todo: list[tuple] = []

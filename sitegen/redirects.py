@@ -99,6 +99,7 @@ def alias_lines(source: Path, body_line: int) -> dict[str, int]:
     import yaml
 
     from located import yaml as located_yaml
+    from located.yamlwalk import Walker
 
     try:
         raw = source.read_bytes().decode("utf-8-sig").replace("\r\n", "\n").replace("\r", "\n")
@@ -111,16 +112,16 @@ def alias_lines(source: Path, body_line: int) -> dict[str, int]:
     found: dict[str, int] = {}
     if not isinstance(node, yaml.MappingNode):
         return found
-    for key, value in node.value:
-        if str(key.value) != "aliases":
+    walk = Walker(str(source), first_line=2)  # problems were reported when the page was read
+    for key, key_node, value in walk.mapping(node, "front matter"):
+        if key != "aliases":
             continue
-        line = key.start_mark.line + 2
         items = value.value if isinstance(value, yaml.SequenceNode) else [value]
         for item in items:
             if isinstance(item, yaml.ScalarNode):
                 for text in str(item.value).split(","):
-                    found.setdefault(text.strip(), item.start_mark.line + 2)
-        found.setdefault("", line)
+                    found.setdefault(text.strip(), walk.line(item) or 1)
+        found.setdefault("", walk.line(key_node) or 1)
     return found
 
 

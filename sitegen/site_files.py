@@ -15,17 +15,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sitegen.content import SourceTree
-from sitegen.errors import Diagnostics
 from sitegen.markdown_stage import search_records
 from sitegen.nav import Site, full_tree
 from sitegen.output import OutFile, Survey, from_bytes
 from sitegen.pages import Menus, sitemap_xml, special_pages
 from sitegen.search import record_key, write_search_script
-from sitegen.theme import Theme
 
 if TYPE_CHECKING:
-    from sitegen.build_inputs import Inputs
+    from sitegen.build_inputs import SiteStage
 
 
 @dataclass
@@ -86,21 +83,10 @@ def search_index(path: Path, site: Site, renders, reuse: SiteWide) -> str:
     return reuse.search[0]
 
 
-def site_files(
-    base_url: str,
-    tree: SourceTree,
-    content_name: str,
-    theme: Theme,
-    site: Site,
-    base: dict,
-    menus: Menus,
-    renders,
-    files: dict[str, OutFile],
-    diags: Diagnostics,
-    reuse: SiteWide,
-    scratch: Path,
-) -> None:
+def site_files(stage: SiteStage, menus: Menus, files: dict[str, OutFile], reuse: SiteWide) -> None:
     """Add the site-wide files to ``files``; a content file clashing with one is an error."""
+    inp, site, base, diags = stage.inp, stage.site, stage.base, stage.diags
+    theme, tree, content_name = inp.theme, inp.tree, inp.content_root.name
     reuse.add(
         files,
         "pages",
@@ -108,13 +94,13 @@ def site_files(
         lambda: special_pages(theme, site, base, menus),
     )
     reuse.add(files, "assets", "", theme.assets)
-    index = scratch / "assets" / "search-index.js"
+    index = stage.scratch / "assets" / "search-index.js"
     index.parent.mkdir(parents=True, exist_ok=True)
-    digest = search_index(index, site, renders, reuse)
+    digest = search_index(index, site, stage.md.renders, reuse)
     files["assets/search-index.js"] = OutFile(digest, source=index, move=True)
     files[".nojekyll"] = from_bytes(b"")
-    if base_url:
-        files["sitemap.xml"] = from_bytes(sitemap_xml(site, base_url))
+    if inp.config.base_url:
+        files["sitemap.xml"] = from_bytes(sitemap_xml(site, inp.config.base_url))
     for asset in tree.assets:
         rel = str(asset.rel)
         if rel in files:
@@ -123,45 +109,24 @@ def site_files(
         files[rel] = OutFile(asset.digest, source=asset.path)
 
 
-def make_site_files(
-    inp: Inputs,
-    site,
-    md,
-    targets,
-    handlers: dict,
-    base: dict,
-    menus,
-    frag,
-    files: dict[str, OutFile],
-    diags: Diagnostics,
-    scratch: Path,
-):
+def make_site_files(stage: SiteStage, menus: Menus, files: dict[str, OutFile]) -> SiteWide:
     """Stage 5: the integrations' files made from the rendered site (slide decks, blog index,
     tags, feed), then the site-wide files. Returns the site-wide files' cache entries."""
     from sitegen.build_inputs import code_digest
     from sitegen.integrations import Built
 
+    inp, site, diags = stage.inp, stage.site, stage.diags
     name = inp.content_root.name
-    built = Built(site, md.renders, targets, handlers, inp.theme, base, menus, name)
+    built = Built(
+        site, stage.md.renders, stage.targets, stage.handlers, inp.theme, stage.base, menus, name
+    )
     for integ in inp.integrations:
         for rel, data in integ.site_files(built, diags).items():
             if rel in files:
                 diags.error(rel, None, "", "a generated file has the same path as a page")
             files[rel] = from_bytes(data)
     salt = f"{inp.theme_digest}\0{code_digest()}"
+    frag = stage.frag
     reuse = SiteWide(inp.output, inp.state.manifest, inp.found, frag.site_wide, salt, frag.search)
-    site_files(
-        inp.config.base_url,
-        inp.tree,
-        name,
-        inp.theme,
-        site,
-        base,
-        menus,
-        md.renders,
-        files,
-        diags,
-        reuse,
-        scratch,
-    )
+    site_files(stage, menus, files, reuse)
     return reuse

@@ -274,7 +274,7 @@ def test_admonitions_and_tabs(browser, site, where, scheme):
         assert page.locator(".admonition.note .admonition-title").inner_text() == "注意"
         tabs = page.locator(".tabbed-set label")
         assert tabs.all_inner_texts() == ["Windows", "macOS", "Linux"]
-        blocks = page.locator(".tabbed-block")
+        blocks = page.locator(".tabbed-content")
         assert blocks.nth(0).is_visible() and not blocks.nth(1).is_visible()
         tabs.nth(1).click()
         assert blocks.nth(1).is_visible() and not blocks.nth(0).is_visible()

@@ -232,3 +232,30 @@ def test_pyproject_names_only_existing_tests():
     text = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
     for path in re.findall(r"tests/[\w/]+\.py", text):
         assert (ROOT / path).is_file(), f"pyproject.toml names {path}, which does not exist"
+
+
+def test_lowest_pins_are_pyprojects_lower_bounds():
+    """.ci/matrix tests the site half on the lowest releases pyproject.toml allows: the pins in
+    .ci/lowest.txt must be exactly those lower bounds (one place states the bounds)."""
+    import re
+    import subprocess
+    import sys
+
+    from packaging.version import Version
+
+    reqs = subprocess.run(
+        [sys.executable, str(ROOT / ".ci" / "site_requirements.py")],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split()
+    lower = {}
+    for req in reqs:
+        name, bound = re.match(r"([A-Za-z0-9_.-]+).*?>=([0-9][^,;\s]*)", req).groups()
+        lower[name.lower()] = Version(bound)
+    pins = {}
+    for line in (ROOT / ".ci" / "lowest.txt").read_text(encoding="utf-8").splitlines():
+        if line.strip() and not line.startswith("#"):
+            name, version = line.split("==")
+            pins[name.strip().lower()] = Version(version)
+    assert pins == lower

@@ -128,3 +128,16 @@ def test_a_clip_time_limit_must_be_positive(tmp_path):
     assert [(d.line, d.field, d.message) for d in info.value.diagnostics] == [
         (2, "sims.timeout", "must be a positive number of seconds")
     ]
+
+
+def test_front_matter_duplicate_keys_are_errors_at_their_lines(tmp_path):
+    """Front matter goes through the same walker as sitegen.yml: a second ``title:`` is an
+    error at its line (YAML alone would keep the later one silently), as in sitegen.yml."""
+    src = write_tree(
+        tmp_path / "src",
+        {"content/index.md": "---\ntitle: First\nweight: 1\ntitle: Second\n---\n# Home\n"},
+    )
+    run = run_cli("build", "--source", str(src), "--output", str(tmp_path / "o"))
+    assert run.returncode == 1
+    assert "index.md:4: error: title: duplicate key 'title' (first at line 2)" in run.stderr
+    assert "Traceback" not in run.stderr

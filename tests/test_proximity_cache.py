@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from shared_data import shared
 
 from sims.lua.host import ScriptHost
 from sims.quiet import pybullet as p
@@ -13,7 +14,6 @@ from sims.remote_api import commands as cmd
 from sims.scene.load import load_scene
 from sims.scene.xml_write import write_xml
 from sims.world import World
-from tests.shared_data import shared
 
 
 def reference(world: World, name: str) -> list:

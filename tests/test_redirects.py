@@ -7,11 +7,11 @@ import re
 from pathlib import Path
 
 import pytest
+from sitegen_helpers import run_build, run_cli, write_tree
 
 from sitegen.check import check_site
 from sitegen.errors import BuildError
 from sitegen.redirects import alias_path
-from tests.sitegen_helpers import run_build, run_cli, write_tree
 
 
 def page(title: str, aliases: str = "", body: str = "Text.\n") -> str:

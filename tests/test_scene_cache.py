@@ -12,11 +12,11 @@ import sys
 from pathlib import Path
 
 import pytest
+from shared_data import shared
 
 from sims.scene import scene_cache
 from sims.scene.load import load_scene
 from sims.world import World
-from tests.shared_data import shared
 
 REPO = Path(__file__).resolve().parents[1]
 ROVER = REPO / "data" / "scenes" / "rover.simscene.xml"

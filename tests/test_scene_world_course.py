@@ -11,10 +11,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from shared_data import shared
 
 from sims.remote_api.runner import run_script
 from sims.world import World
-from tests.shared_data import shared
 
 REPO = Path(__file__).resolve().parents[1]
 ARM = ("ShoulderMotor", "ElbowMotor", "WristMotor")
