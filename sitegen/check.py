@@ -63,7 +63,7 @@ def check_site(site_dir: Path, log: Callable[[str], None] | None = None) -> list
         outside = 0
         for tag, attr, url, line in c.refs:
             problem = _check_ref(site_dir, parsed, rel, c, tag, attr, url)
-            outside += bool(urlsplit(url).scheme) or url.startswith("//")
+            outside += _leaves_site(url)
             if problem:
                 problems.append(f"{rel}:{line}: {problem}")
         if log:
@@ -75,6 +75,15 @@ def check_site(site_dir: Path, log: Callable[[str], None] | None = None) -> list
         files = sum(1 for p in site_dir.rglob("*") if p.is_file())
         log(f"  {len(parsed)} pages, {files} files")
     return problems
+
+
+def _leaves_site(url: str) -> bool:
+    """A link to another site (a scheme, or ``//host``); a URL too malformed to split (an
+    unclosed ``[`` host) is not one of the site's own files either."""
+    try:
+        return bool(urlsplit(url).scheme) or url.startswith("//")
+    except ValueError:
+        return True
 
 
 def _symlinks(site_dir: Path) -> list[str]:
