@@ -57,9 +57,15 @@ def test_messy_fixture_reports_what_it_tolerated() -> None:
     assert f"{file}:4: info: line: empty member slot(s) 3-4 skipped" in infos
     assert any("spaces around 2 value(s) trimmed" in d for d in infos)
     warnings = [str(d) for d in r.warnings]
+    # three annotations: one warning naming them, each one in full among the info notes
     assert (
-        f"{file}:1: warning: member 1 id (col 2): "
-        "annotation '*' beside 40823101 kept as a member note" in warnings
+        f"{file}:1: warning: member 1 id (col 2): 3 annotations beside ids kept as member "
+        "notes: '*' beside 40823101 (line 1), '(dropped)' beside 40823102 (line 1), "
+        "'?' beside 40823104 (line 3)" in warnings
+    )
+    assert (
+        f"{file}:1: info: member 1 id (col 2): "
+        "annotation '*' beside 40823101 kept as a member note" in infos
     )
     assert (
         f"{file}:3: warning: member 2 account (col 5): "
