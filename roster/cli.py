@@ -18,11 +18,11 @@ from typing import TextIO
 
 from located.verbosity import add_verbosity
 
+from .detect import LAYOUTS
 from .diff import diff
 from .emit import to_csv, to_html, to_json
 from .load import load_roster
 from .model import WHOLE_FILE, Diagnostic, RosterError, RosterResult, printable
-from .parse_tsv import LAYOUTS
 
 EMITTERS: dict[str, Callable[[RosterResult], str]] = {
     "html": to_html,

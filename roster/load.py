@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Literal
 
 from .corrections import apply_corrections, find_corrections, load_corrections
+from .detect import LAYOUTS
 from .model import (
     DEFAULT_MARKS,
     WHOLE_FILE,
@@ -23,13 +24,13 @@ from .model import (
     RosterResult,
 )
 from .parse_csv import parse_csv
-from .parse_tsv import LAYOUTS, parse_tsv
+from .parse_text import parse_text
 from .parse_yaml import parse_yaml
 from .records import Collector, RawGroup
 from .source import decode, detect_format, read_bytes
 from .validate import slug_for, validate
 
-PARSERS = {"tsv": parse_tsv, "csv": parse_csv, "yaml": parse_yaml}
+PARSERS = {"tsv": parse_text, "csv": parse_csv, "yaml": parse_yaml}
 
 PathLike = str | os.PathLike[str]
 
@@ -101,7 +102,7 @@ def load_roster(
         c.info(WHOLE_FILE, where, message)
     c.diagnostics.extend(source.diagnostics)
     if fmt == "tsv":
-        groups = parse_tsv(source.lines, c, layout)
+        groups = parse_text(source.lines, c, layout)
     else:
         groups = PARSERS[fmt](source.lines, c)
 

@@ -1,4 +1,4 @@
-"""The course's tab-separated rosters, in two layouts.
+"""The course's one-group-a-line rosters, in two layouts (`detect` picks these or another).
 
 `paired` (stage 3): `group<TAB>id<TAB>account<TAB>id<TAB>account...`; `ids` (earlier
 stages): `group<TAB>id<TAB>id...`, each account being the id unless the corrections give
@@ -17,10 +17,12 @@ tabs is an error rather than a silently mis-read group.
 
 from __future__ import annotations
 
-import re
 from collections import Counter
 from dataclasses import dataclass
 
+from .labels import ACCOUNT_LABEL as _ACCOUNT_LABEL
+from .labels import GROUP_HEADERS as _HEADER_GROUP
+from .labels import MEMBER_LABEL as _HEADER_LABEL
 from .model import WHOLE_FILE, quoted
 from .records import (
     Collector,
@@ -31,13 +33,6 @@ from .records import (
     split_mark_words,
     split_marks,
 )
-
-LAYOUTS = ("auto", "paired", "ids")
-_HEADER_GROUP = {"組別", "組名", "分組", "組", "小組", "group", "groups", "team", "name"}
-_HEADER_LABEL = re.compile(
-    r"(組員|成員|學號|帳號|member|student|id|account|github)[\s_-]*\d*", re.IGNORECASE
-)
-_ACCOUNT_LABEL = re.compile(r"帳號|account|github", re.IGNORECASE)
 
 
 def _ranges(numbers: list[int]) -> str:

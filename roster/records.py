@@ -201,6 +201,7 @@ class Collector:
             )
             self._first_trim = None
         for kind in self._kinds.values():
+            kind.found.sort(key=lambda found: found[0] or 0)  # examples in file order
             if len(kind.found) == 1:
                 line, where, message, _ = kind.found[0]
                 self.add(kind.severity, line, where, message)

@@ -193,10 +193,22 @@ def test_big5_file_is_reported_not_crashed(tmp_path: Path) -> None:
     assert r.errors and all(d.line == 1 for d in r.errors)
 
 
-def test_space_separated_line_is_an_error_not_a_group(tmp_path: Path) -> None:
-    r = load_text(tmp_path, "g 40823101 40823101\n")
+def test_space_separated_line_in_a_tab_file_is_an_error_not_a_group(tmp_path: Path) -> None:
+    r = load_text(tmp_path, "f\t40823102\t40823102\ng 40823101 40823101\n")
     (e,) = [d for d in r.errors if "no tab" in d.message]
-    assert e.line == 1 and "40823101" in e.message
+    assert e.line == 2 and "40823101" in e.message
+
+
+def test_a_file_written_with_spaces_throughout_is_read(tmp_path: Path) -> None:
+    """Issue 30: other years' files use spaces (or full-width spaces) instead of tabs."""
+    r = load_text(tmp_path, "g 40823101 40823101\u3000a40823102  a40823102\ngroup 2: 40823103\n")
+    assert r.ok, [str(d) for d in r.errors]
+    assert members(r) == [
+        ("g", "40823101", "40823101"),
+        ("g", "a40823102", "a40823102"),
+        ("group 2", "40823103", "40823103"),
+    ]
+    assert any("no tabs in the file" in d.message for d in r.infos)
 
 
 def test_empty_group_name_keeps_ids_in_the_error(tmp_path: Path) -> None:
