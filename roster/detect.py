@@ -97,6 +97,7 @@ class Detected:
     header_line: int = 0
     columns: Columns | None = None
     problem: str = ""  # for "accounts" and "none": the one error to report
+    problem_line: int = 1  # ... and the line it is reported at
     spaced: bool = False  # no tabs in the file: group-first lines are split on spaces
 
 
@@ -189,7 +190,7 @@ def _group_first(data: list[_Line], groups: list[_Line], spaced: bool) -> Detect
         return Detected(
             "none",
             "",
-            header_line=groups[0].number,
+            problem_line=groups[0].number,
             problem=f"no roster layout fits: lines {groups[0].number}-{groups[-1].number} are "
             f"a numbered list of {len(groups)} students, not groups; " + EXPECTED,
         )
@@ -285,7 +286,7 @@ def _not_a_roster(data: list[_Line], members: list[_Line], counts: Counter) -> D
         return Detected(
             "accounts",
             "",
-            header_line=members[0].number,
+            problem_line=members[0].number,
             problem=f"this file is an id -> account list with no groups ({len(members)} "
             "students): use it as aliases (--aliases FILE, or aliases: in the roster's "
             "sitegen.yml entry) for a roster that has the groups",
@@ -305,5 +306,5 @@ def _not_a_roster(data: list[_Line], members: list[_Line], counts: Counter) -> D
         "none",
         "",
         problem=f"no roster layout fits this file ({what}; {shown}); {EXPECTED}",
-        header_line=first.number,
+        problem_line=first.number,
     )

@@ -22,7 +22,7 @@ def parse_text(lines: list[str], c: Collector, layout: str = "auto") -> list[Raw
     found = detect(lines, c, layout)
     if found.layout in ("none", "accounts"):
         c.layout = found.layout
-        c.error(found.header_line or 1, "layout", found.problem)  # one error, not a flood
+        c.error(found.problem_line, "layout", found.problem)  # one error, not a flood
         return []
     if found.layout in ("group-first", "paired", "ids"):
         if found.spaced:
