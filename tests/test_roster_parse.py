@@ -289,8 +289,8 @@ def test_csv_leader_column_and_unknown_column(tmp_path: Path) -> None:
     text = "group,id,account,leader,name\ng,40823101,40823101,,Ann\ng,40823102,40823102,yes,Bob\n"
     r = load_text(tmp_path, text, "r.csv")
     assert r.roster.groups[0].leader == "40823102"
-    (w,) = find(r, "warning", "unknown column 'name' ignored")
-    assert w.field == "header (col 5)"
+    (note,) = find(r, "info", "columns not part of the roster, ignored: 'name' (col 5)")
+    assert note.line == 1 and not r.warnings
 
 
 def test_csv_extra_cells_are_not_dropped_silently(tmp_path: Path) -> None:
