@@ -148,10 +148,10 @@ def detect(lines: list[str], c: Collector, layout: str = "auto") -> Detected:
                 "none", "given", problem="no column of group numbers or names found"
             )
     if layout == "auto" and groups and len(groups) >= len(members):
-        return _group_first(data, groups, spaced)
+        return _group_first(data, groups, spaced, c)
     labels = [line for line in data if line.kind == "label"]
     if layout == "blocks" or (
-        labels and members and labels[0].number < members[0].number and not _is_header(labels)
+        labels and members and labels[0].number < members[-1].number and not _is_header(labels)
     ):
         return Detected("blocks", "given" if layout == "blocks" else _blocks_reason(labels))
     return _not_a_roster(data, members, counts)
@@ -168,20 +168,14 @@ def _is_header(labels: list[_Line]) -> bool:
     return len(labels) == 1 and any(column_role(f) in ("id", "account") for f in labels[0].fields)
 
 
-def _group_first(data: list[_Line], groups: list[_Line], spaced: bool) -> Detected:
+def _group_first(data: list[_Line], groups: list[_Line], spaced: bool, c: Collector) -> Detected:
     """One group a line (paired or ids, decided by `parse_tsv.choose_layout`), unless the
     group names repeat (one member a line, group first) or count 1, 2, 3 (a numbered list)."""
     names = [clean_name(line.fields[0]) for line in groups]
-    small = all(len(line.fields) <= 3 for line in groups)
-    if small and len(groups) >= 4 and len(set(names)) * 2 <= len(groups):
-        cols = Columns(id=1, group=0, account=2, width=3)
-        return Detected(
-            "rows",
-            f"detected: one member a line, the group first ({len(set(names))} groups "
-            f"over {len(groups)} lines)",
-            header_line=_header_before(data, groups[0]),
-            columns=cols,
-        )
+    if len(groups) >= 4 and len(set(names)) * 2 <= len(groups):
+        found = _rows(data, groups, c, group_col=0)
+        if found is not None:
+            return found
     numbers = [n.rstrip(".") for n in names]
     counting = all(n.isdigit() for n in numbers) and [int(n) for n in numbers] == list(
         range(int(numbers[0]), int(numbers[0]) + len(numbers))
@@ -207,13 +201,17 @@ def _header_before(data: list[_Line], first: _Line) -> int:
     return before[-1].number if before else 0
 
 
-def _rows(data: list[_Line], members: list[_Line], c: Collector) -> Detected | None:
+def _rows(
+    data: list[_Line], members: list[_Line], c: Collector, group_col: int | None = None
+) -> Detected | None:
     """One member a line, if a column holds group numbers or names; else None."""
     width = Counter(len(line.fields) for line in members).most_common(1)[0][0]
     header_line = _header_before(data, members[0])
     header = next((line.fields for line in data if line.number == header_line), [])
     roles = [column_role(f) for f in header] if len(header) == width else []
-    cols = _columns(members, width, roles, c)
+    if sum(role is not None for role in roles) < 2:  # `group 2:` is a label, not a header
+        roles = []
+    cols = _columns(members, width, roles, c, group_col)
     if cols is None:
         return None
     named = f"the header row (line {header_line}) and " if roles else ""
@@ -229,7 +227,9 @@ def _column(members: list[_Line], index: int, c: Collector) -> list[str]:
     return [clean(line.fields[index], c) for line in members if len(line.fields) > index]
 
 
-def _columns(members: list[_Line], width: int, roles: list, c: Collector) -> Columns | None:
+def _columns(
+    members: list[_Line], width: int, roles: list, c: Collector, group_col: int | None = None
+) -> Columns | None:
     """Which column is the id, the group and the account, from the header's words where it
     names them and otherwise from the values: the group column holds few distinct short
     values that are not ids, repeated down the file (`1`..`7` over 56 lines)."""
@@ -237,10 +237,20 @@ def _columns(members: list[_Line], width: int, roles: list, c: Collector) -> Col
     def role(name: str) -> int | None:
         return roles.index(name) if name in roles else None
 
+    if group_col is None:
+        group_col = role("group")
     id_col = role("id")
     if id_col is None:
-        id_col = 0
-    group_col = role("group")
+        id_col = next(
+            (
+                i
+                for i in range(width)
+                if i != group_col
+                and (values := [v for v in _column(members, i, c) if v])
+                and sum(map(id_like, values)) * 5 >= len(values) * 4
+            ),
+            0,
+        )
     if group_col is None:
         candidates = []
         for index in range(width):
@@ -275,9 +285,12 @@ def _columns(members: list[_Line], width: int, roles: list, c: Collector) -> Col
 
 
 def _account_like(values: list[str]) -> bool:
-    """GitHub-account-like text (ASCII letters, digits, `-`), mostly different from line to line."""
+    """GitHub-account-like text (ASCII letters, digits, `-`), mostly ids or mostly different
+    from line to line (a class column, `2a` on every line, is not an account)."""
     ok = sum(bool(re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", v)) for v in values)
-    return bool(values) and ok * 5 >= len(values) * 4 and len(set(values)) * 2 > len(values)
+    ids = sum(map(id_like, values))
+    varied = len(set(values)) * 2 > len(values) or ids * 2 > len(values)
+    return bool(values) and ok * 5 >= len(values) * 4 and varied
 
 
 def _not_a_roster(data: list[_Line], members: list[_Line], counts: Counter) -> Detected:

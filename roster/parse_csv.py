@@ -151,6 +151,7 @@ def _row(
         col.get("account", "account"),
         # Without an account column the header warning already said it once.
         missing_account="empty account" if "account" in columns else None,
+        missing_severity="info",  # the course's lists: not every student has an account yet
     )
     if member is None:
         if not _cell(row, columns, "id").strip() and not account_raw.strip():

@@ -15,7 +15,7 @@ parser reads `group<TAB>id<TAB>account` and files with extra columns (a name, a 
 from __future__ import annotations
 
 from .detect import Columns, Detected, clean, split_fields
-from .labels import group_label, is_separator, natural_key
+from .labels import group_label, id_like, is_separator, natural_key
 from .model import WHOLE_FILE, quoted
 from .records import Collector, RawGroup, RawMember, make_member
 
@@ -33,6 +33,7 @@ def parse_rows(lines: list[str], c: Collector, found: Detected) -> list[RawGroup
     if cols.ignored:
         shown = "; ".join(f"column {i + 1} ({why})" for i, why in sorted(cols.ignored.items()))
         c.info(WHOLE_FILE, "columns", f"not part of the roster, ignored: {shown}")
+    _ids_in_ignored_columns(lines, c, cols)
     groups: dict[str, RawGroup] = {}
     ungrouped: list[RawMember] = []
     for lineno, text in enumerate(lines, 1):
@@ -83,7 +84,7 @@ def _row(
             "(a value with spaces in a space-separated file?)",
         )
     id_raw = cell(cols.id) or ""
-    if not clean(id_raw, c):
+    if not id_like(clean(id_raw, c)):
         values = " ".join(fields)
         c.error(lineno, _where(cols.id, "id"), f"line has no student id ({quoted(values)})")
         return
@@ -108,3 +109,18 @@ def _row(
     if group is None:
         group = groups[name] = RawGroup(name=name, line=lineno, field=_where(cols.group, "group"))
     group.members.append(member)
+
+
+def _ids_in_ignored_columns(lines: list[str], c: Collector, cols: Columns) -> None:
+    """A student id in a column that is not read would vanish: an error at its line."""
+    for lineno, text in enumerate(lines, 1):
+        fields = split_fields(text, c.mark_words)
+        for index in sorted(cols.ignored):
+            if index < len(fields) and id_like(clean(fields[index], c)):
+                c.error(
+                    lineno,
+                    f"col {index + 1}",
+                    f"{quoted(fields[index])} looks like a student id in column {index + 1}, "
+                    "which is not read (the columns are id, account and group; "
+                    "set them with a header row)",
+                )
