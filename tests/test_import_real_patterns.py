@@ -65,14 +65,15 @@ def test_code_is_never_rewritten_and_check_agrees_with_strict_build(tmp_path: Pa
     project = imported(tmp_path)
     site = tmp_path / "site"
     report = run_build(project, site, strict=True)  # raises BuildError on any warning
-    assert report.pages == 5
+    assert report.pages == 4  # the first page, 首頁, is the home page
     assert assert_code_unchanged(project / "content", site) == 3
     w1 = (site / "w1" / "index.html").read_text("utf-8")
     # inline code keeps the cmsimde path, not "../images/missing.png", and raises no warning
     assert '<code>&lt;img src="/images/missing.png"&gt;</code>' in w1
-    # YouTube iframe and external images pass both checks; //host became https://host
+    # the YouTube iframe is a click-to-load poster (issue 30): no YouTube URL in a src;
+    # external images pass both checks; //host became https://host
     video = (site / "w1" / "影片.html").read_text("utf-8")
-    assert 'src="https://www.youtube.com/embed/dQw4w9WgXcQ"' in video
+    assert 'data-youtube="dQw4w9WgXcQ"' in video and "youtube.com/embed" not in video
     assert 'src="https://mde.tw/images/nfu.png"' in video and 'src="//' not in video
     assert check_site(site) == []
     done = run_cli("check", str(site))
@@ -229,7 +230,7 @@ def test_root_absolute_downloads_become_relative_or_warn(tmp_path: Path) -> None
     report = import_cmsimde(old, tmp_path / "p" / "content")
     content = tmp_path / "p" / "content"
     assert (content / "downloads" / "vrep_remoteapi_ex.7z").read_bytes() == b"7z"
-    assert "[ok](downloads/vrep_remoteapi_ex.7z)" in (content / "01-a.md").read_text()
+    assert "[ok](downloads/vrep_remoteapi_ex.7z)" in (content / "index.md").read_text()
     assert "[gone](../downloads/gone.7z)" in (content / "02-b" / "01-c.md").read_text()
     assert "C: link /downloads/gone.7z names downloads/gone.7z, which is not in the site" in (
         "\n".join(report.warnings)

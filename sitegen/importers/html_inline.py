@@ -138,6 +138,8 @@ class Hooks:
     url: Callable[[str, Element, str], str]  # (url, element, attribute) -> url
     data_image: Callable[[str, Element], str | None]  # data: URI -> new src, or None
     warn: Callable[[str, int], None]  # (message, source line)
+    # an element's whole HTML instead of its own (a YouTube iframe's poster), or None
+    replace: Callable[[Element], str | None] = lambda el: None
 
 
 def _style(value: str) -> list[tuple[str, str]]:
@@ -191,7 +193,7 @@ class InlineConverter:
 
     def raw(self, el: Element) -> str:
         """``el`` serialised as HTML, its URLs rewritten like Markdown ones."""
-        html = to_html(el, self._rewrite_attr).strip()
+        html = to_html(el, self._rewrite_attr, self.hooks.replace).strip()
         if "<pre" not in html and "<textarea" not in html:
             html = re.sub(r"\n[ \t]*(?=\n)", "", html)  # a blank line would end the HTML block
         return html
