@@ -146,22 +146,35 @@ def test_300kb_site_with_a_malformed_url_imports_every_page(tmp_path: Path) -> N
     for page in report.pages:
         assert (tmp_path / "project" / "content" / page.path).is_file()
     (warning,) = [w for w in report.warnings if MALFORMED in w]
-    assert warning.startswith("W40 第40週進度: malformed URL")
-    assert warning.endswith(f"kept as written (line {bad_line})")
+    assert warning.startswith(f"W40 第40週進度: link '{MALFORMED}': malformed URL")
+    assert warning.endswith(
+        f"its text is kept, not as a link (the URL is in a comment beside it) (line {bad_line})"
+    )
     page = next(p for p in report.pages if p.title == "W40 第40週進度")
     text = (tmp_path / "project" / "content" / page.path).read_text("utf-8")
-    assert MALFORMED in text
+    # a browser cannot follow it either: the text stays, the URL is kept beside it (issue 30)
+    assert f"proxy<!-- link URL that does not parse: {MALFORMED} -->" in text
 
-    # the build reports it the same way (file:line), and --strict fails without a traceback
+    # so the imported site builds with --strict, and the comment reaches the page unchanged
+    site = tmp_path / "site"
+    run_build(tmp_path / "project", site, strict=True)
+    assert check_site(site) == []
+
+
+def test_a_malformed_url_written_in_markdown_is_reported_by_build_and_check(
+    tmp_path: Path,
+) -> None:
+    project = write_tree(
+        tmp_path / "p",
+        {"sitegen.yml": "title: T\n", "content/index.md": f"# H\n\ntext\n\n[proxy]({MALFORMED})\n"},
+    )
     site = tmp_path / "site"
     with pytest.raises(BuildError):
-        run_build(tmp_path / "project", site, strict=True)
-    run_build(tmp_path / "project", site)
-    done = run_cli("build", "--source", str(tmp_path / "project"), "--output", str(site))
+        run_build(project, site, strict=True)
+    done = run_cli("build", "--source", str(project), "--output", str(site))
     assert done.returncode == 0 and "Traceback" not in done.stderr
     (line,) = [ln for ln in done.stderr.splitlines() if MALFORMED in ln]
-    md_line = text.splitlines().index(next(ln for ln in text.splitlines() if MALFORMED in ln))
-    assert f"{page.path}:{md_line + 1}: warning: link: malformed URL" in line
+    assert "content/index.md:5: warning: link: malformed URL" in line
     checked = check_site(site)
     assert [p for p in checked if MALFORMED in p] and all("Traceback" not in p for p in checked)
 

@@ -295,7 +295,9 @@ def import_cmsimde(
         page_report = PageReport(page.title, page.rel.as_posix(), page.level, page.line)
         for line, message in notes:
             page_report.warnings.append(f"{message} (line {line})" if line else message)
-        page_report.notes = [f"{m} (line {n})" if n else m for n, m in sorted(done)]
+        page_report.notes = [
+            f"{m} (line {n})" if n else m for n, m in sorted(done, key=lambda note: note[0])
+        ]
         report.warnings.extend(f"{page.title}: {w}" for w in page_report.warnings)
         report.pages.append(page_report)
         home = page is front or page.rel.as_posix() == "index.md"

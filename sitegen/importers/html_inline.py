@@ -12,8 +12,10 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from located.diagnostics import quoted
 from sitegen.importers import mdtext
 from sitegen.importers.htmltree import Element, Node, Text, to_html
+from sitegen.links import external_problem
 
 HEADINGS = {"h1", "h2", "h3", "h4", "h5", "h6"}
 #: Dropped everywhere except inside code, with a warning.
@@ -290,6 +292,17 @@ class InlineConverter:
         if href.lower().startswith("javascript:"):
             self.hooks.warn(f"javascript: link not carried over ({href[:40]})", el.line)
             return prefix + inner
+        problem = external_problem(href)
+        if problem and problem.startswith("malformed"):
+            # a browser cannot follow it either (`http://[組長IP]:23020`, a placeholder): the
+            # text stays, the URL is kept in a comment beside it, and the report says so
+            self.hooks.warn(
+                f"link {quoted(href)}: {problem.split(';')[0]}; its text is kept, "
+                "not as a link (the URL is in a comment beside it)",
+                el.line,
+            )
+            kept = href.replace("--", "- -").replace(">", "&gt;")
+            return f"{prefix}{inner}<!-- link URL that does not parse: {kept} -->"
         url = self.hooks.url(href, el, "href")
         if self._in_table:
             url = url.replace("|", "%7C")

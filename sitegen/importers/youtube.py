@@ -120,7 +120,10 @@ def poster(src: str, title: str, width: str, height: str, language: str) -> str 
         f'<input type="hidden" name="{html.escape(k)}" value="{html.escape(v)}">'
         for k, v in [*params.items(), ("autoplay", "1")]
     )
-    watch = "https://www.youtube.com/watch?" + urlencode({"v": vid, **params})
+    if vid == "videoseries":  # a playlist player: `embed/videoseries?list=...`
+        watch = "https://www.youtube.com/playlist?" + urlencode({"list": params.get("list", "")})
+    else:
+        watch = "https://www.youtube.com/watch?" + urlencode({"v": vid, **params})
     doc = (
         f'<!doctype html><html lang="{language}"><meta charset="utf-8">'
         f"<title>{html.escape(name)}</title><style>{_STYLE}</style>"
