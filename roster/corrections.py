@@ -287,7 +287,19 @@ def _apply_aliases(run: _Run, groups: list[RawGroup]) -> None:
 
 
 def _apply_listed(run: _Run, m: RawMember) -> None:
-    """The alias list's account for a member, reported with the list's file and line."""
+    """The alias list's account for a member, reported with the list's file and line; for a
+    member known by GitHub login alone, the list's id for that account."""
+    if m.login_only:
+        by_account = {a.account.lower(): a for a in run.corr.listed_aliases.values()}
+        alias = by_account.get(m.account.lower())
+        if alias is not None:
+            alias.matched = m.explained = True
+            message = (
+                f"id of GitHub login {quoted(m.account)}: {alias.id} [{alias.file}:{alias.line}]"
+            )
+            run.applied.append(Diagnostic(run.roster_file, m.line, m.field, message, "info"))
+            m.id, m.login_only = alias.id, False
+        return
     alias = run.corr.listed_aliases.get(m.id)
     if alias is None:
         return

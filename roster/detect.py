@@ -7,7 +7,8 @@ whatever a given year used:
 - ``ids``: one group a line, `group<TAB>id<TAB>id...` (2021, stages 1-2)
 - ``rows``: one member a line with a group column, `id<TAB>account<TAB>group` under a header
   like `2a / github 帳號 / 組別` (2022); the group column may come first
-- ``blocks``: a group label line (`2ag1`, `group 1:`), then its members one a line (2019, 2023-24)
+- ``blocks``: a group label line (`2ag1`, `group 1:`), then its members one a line (2019,
+  2023-24); in 2025 a GitHub team list (`Processing team: g1`, then `Login: ..., ID: ...`)
 - ``lists``: a Python list of lists of ids, `[['40723104', ...], [...]]` (2020)
 
 Every non-blank line is classed by where its ids are (an id first: a *member* line; a name,
@@ -25,7 +26,7 @@ import re
 from collections import Counter
 from dataclasses import dataclass, field
 
-from .labels import column_role, id_like, is_separator
+from .labels import column_role, id_like, is_separator, login_record
 from .model import quoted
 from .records import Collector, split_mark_words, split_marks
 
@@ -116,7 +117,7 @@ def classify(lines: list[str], c: Collector) -> list[_Line]:
             continue
         fields = split_fields(text, c.mark_words)
         cleaned = [clean(f, c) for f in fields]
-        if cleaned and id_like(cleaned[0]):
+        if (cleaned and id_like(cleaned[0])) or login_record(text):
             kind = "member"
         elif any(id_like(v) for v in cleaned[1:]) or any(
             id_like(t) for v in cleaned[:1] for t in v.split()[1:]

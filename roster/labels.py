@@ -87,5 +87,26 @@ def natural_key(text: str) -> tuple:
 
 
 def group_label(text: str) -> str:
-    """A label line as a group name: `group 1:` -> `group 1`, `第一組：` -> `第一組`."""
-    return re.sub(r"\s+", " ", text.strip().rstrip(":：").strip())
+    """A label line as a group name: `group 1:` -> `group 1`, `第一組：` -> `第一組`,
+    `Processing team: g1` (GitHub's team list) -> `g1`."""
+    name = re.sub(r"\s+", " ", text.strip().rstrip(":：").strip())
+    before, colon, after = name.rpartition(":")
+    return after.strip() if colon and after.strip() else name
+
+
+_LOGIN = re.compile(r"^\s*login\s*[:：]\s*([^\s,]+)", re.IGNORECASE)
+_ID_IN_LOGIN = re.compile(r"(?<![0-9])[0-9]{8}(?![0-9])")
+
+
+def login_record(line: str) -> str | None:
+    """The GitHub login of a `Login: 41223251, ID: 144990130, URL: ...` line (the members of
+    a GitHub team as the course's 2025 script printed them), else None."""
+    m = _LOGIN.match(line)
+    return m.group(1) if m else None
+
+
+def id_in_login(login: str) -> str | None:
+    """The student id inside a login: `41223251`, `jjjay41223212`, `41223208-hw` -> 8 digits;
+    None when there is no single 8-digit run (`leeshaowei0716`)."""
+    found = _ID_IN_LOGIN.findall(login)
+    return found[0] if len(found) == 1 else None

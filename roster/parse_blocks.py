@@ -20,10 +20,13 @@ skipped; an id before any label is an error, never a silently dropped student.
 
 from __future__ import annotations
 
+import re
+
 from .detect import clean, split_fields
-from .labels import group_label, id_like, is_separator, natural_key
+from .labels import group_label, id_in_login, id_like, is_separator, login_record, natural_key
 from .model import quoted
-from .records import Collector, RawGroup, make_member
+from .records import Collector, RawGroup, RawMember, make_member
+from .repo_links import is_safe
 
 
 def parse_blocks(lines: list[str], c: Collector) -> list[RawGroup]:
@@ -45,10 +48,17 @@ def parse_blocks(lines: list[str], c: Collector) -> list[RawGroup]:
             skipped += 1
             continue
         fields = split_fields(text, c.mark_words)
+        login = login_record(text)
+        if login is not None and current is not None:
+            _login_member(c, current, login, lineno)
+            continue
         if not _is_member(fields, c):
             position = next(i for i, (n, _) in enumerate(data) if n == lineno)
             if position + 1 < first_member:  # a title above the first group's label
                 c.info(lineno, "line", f"title line skipped: {quoted(text.strip())}")
+                continue
+            listed = {v for g in groups for m in g.members for v in (m.id, m.account)}
+            if position + 1 == len(data) and _summary_line(text, c, listed, lineno):
                 continue
             current = RawGroup(name=group_label(text), line=lineno, field="group label")
             groups.append(current)
@@ -84,4 +94,38 @@ def parse_blocks(lines: list[str], c: Collector) -> list[RawGroup]:
 
 
 def _is_member(fields: list[str], c: Collector) -> bool:
-    return bool(fields) and id_like(clean(fields[0], c))
+    return bool(fields) and (id_like(clean(fields[0], c)) or login_record(fields[0]) is not None)
+
+
+def _login_member(c: Collector, group: RawGroup, login: str, lineno: int) -> None:
+    """A member known by GitHub login (`Login: jjjay41223212, ID: ...`): the login is the
+    account, the student id the 8 digits in it. A login without them stands in for the id
+    (`RawMember.login_only`) until an alias list (`--aliases`, id -> account) gives the real
+    one (`roster.corrections`); those still without one are warned about by `validate`."""
+    sid = id_in_login(login)
+    if sid is not None:
+        member = make_member(c, sid, login, lineno, "login", "login", missing_account=None)
+        if member is not None:
+            member.explained = True  # the account is the one GitHub listed for the team
+            group.members.append(member)
+        return
+    if not is_safe(login):
+        c.error(lineno, "login", f"GitHub login {quoted(login)} cannot be an account")
+        return
+    group.members.append(
+        RawMember(login, login, True, (), lineno, "login", "login", login, True, (), True)
+    )
+
+
+def _summary_line(text: str, c: Collector, listed: set[str], lineno: int) -> bool:
+    """`All members: ['41223251', ...]` after the groups (the 2025 script printed one): a
+    repeat of the members above, skipped with a note; True when it was one. A line that
+    names anyone not in the groups is not skipped (it becomes an empty group: an error)."""
+    if not re.search(r"[\[\]{}'\"]", text) and len(group_label(text)) <= 40:
+        return False
+    names = re.findall(r"[A-Za-z0-9][A-Za-z0-9_.-]*", text.partition(":")[2] or text)
+    names = [n for n in names if any(ch.isdigit() for ch in n) or n in listed]
+    if not names or any(n not in listed for n in names):
+        return False
+    c.info(lineno, "line", f"summary line skipped: its {len(names)} names are all in the groups")
+    return True

@@ -103,6 +103,7 @@ class RawMember:
     raw_account: str = ""
     explained: bool = False  # an alias set or confirmed the account
     marks: tuple[str, ...] = ()
+    login_only: bool = False  # known by GitHub login alone: the id stands in until an alias list
 
 
 @dataclass(slots=True)

@@ -64,9 +64,23 @@ def validate(
     _check_groups(groups, c)
     members = [m for g in groups for m in g.members]
     _check_memberships(groups, c)
-    _check_id_shapes([m for m in members if m.id not in expected_ids], c)
-    _check_near_duplicates(members, c, expected_ids)
+    _check_id_shapes([m for m in members if m.id not in expected_ids and not m.login_only], c)
+    _check_near_duplicates([m for m in members if not m.login_only], c, expected_ids)
     _check_accounts(members, c)
+    for m in members:
+        if m.login_only:
+            c.anomaly(
+                "login without id",
+                "warning",
+                m.line,
+                m.field,
+                f"GitHub login {quoted(m.account)} holds no student id; "
+                "the login stands in for the id",
+                f"{m.account} (line {m.line})",
+                "{n} members are known by GitHub login alone (no student id in it); each "
+                "login stands in for the id until an alias list (--aliases, id -> account) "
+                "names them: {examples}",
+            )
 
 
 def _check_groups(groups: list[RawGroup], c: Collector) -> None:
@@ -118,7 +132,7 @@ def _check_memberships(groups: list[RawGroup], c: Collector) -> None:
     first: dict[str, tuple[RawGroup, RawMember]] = {}
     for g in groups:
         for m in g.members:
-            if not is_student_id(m.id):
+            if not is_student_id(m.id) and not m.login_only:
                 c.error(m.line, m.field, f"{quoted(m.id)} is not a student id (after corrections)")
             seen = first.get(m.id)
             if seen is None:

@@ -426,3 +426,49 @@ def test_any_roster_in_rows_and_blocks_reads_back(
     names = {n: (f"2ag{n}" if n % 2 else f"group {n}") for n in groups}
     by_label = sorted(groups, key=lambda n: natural_key(names[n]))
     assert groups_of(r) == {names[n]: groups[n] for n in by_label}
+
+
+# --- a GitHub team list (2025) ---------------------------------------------------------------
+
+TEAMS = """Processing team: g1
+Login: 41223251, ID: 144990130, URL: https://github.com/41223251
+Login: jjjay41223212, ID: 144991701, URL: https://github.com/jjjay41223212
+Login: leeshaowei0716, ID: 144992123, URL: https://github.com/leeshaowei0716
+Processing team: g10
+Login: 41223208-hw, ID: 183057631, URL: https://github.com/41223208-hw
+Login: supowen, ID: 91449769, URL: https://github.com/supowen
+Processing team: g2
+Login: 41223216, ID: 144990706, URL: https://github.com/41223216
+
+All members: ['41223251', 'jjjay41223212', 'leeshaowei0716', '41223208-hw', 'supowen', '41223216']
+"""
+
+
+def test_github_team_list_is_read_and_an_alias_list_names_the_logins(tmp_path: Path) -> None:
+    r = load(tmp_path, TEAMS)
+    assert r.errors == [] and r.layout == "blocks"
+    assert groups_of(r) == {
+        "g1": [
+            ("41223251", "41223251"),
+            ("41223212", "jjjay41223212"),
+            ("leeshaowei0716", "leeshaowei0716"),
+        ],
+        "g2": [("41223216", "41223216")],
+        "g10": [("41223208", "41223208-hw"), ("supowen", "supowen")],
+    }
+    (w,) = r.warnings
+    assert w.message.startswith("2 members are known by GitHub login alone")
+    assert any("summary line skipped: its 6 names" in d.message for d in r.infos)
+    # the class list (id -> account) gives the logins their ids
+    accounts = tmp_path / "2b.txt"
+    accounts.write_text("學號\tgithub\n41223213\tleeshaowei0716\n41223240\tsupowen\n", "utf-8")
+    named = load(tmp_path, TEAMS, aliases=accounts)
+    assert named.errors == [] and named.warnings == []
+    assert groups_of(named)["g1"][2] == ("41223213", "leeshaowei0716")
+    assert groups_of(named)["g10"][1] == ("41223240", "supowen")
+    assert any(
+        "id of GitHub login 'supowen': 41223240" in d.message for d in named.corrections_applied
+    )
+    # an "All members" line naming someone not in any group is not skipped
+    odd = load(tmp_path, TEAMS.replace("'41223216']", "'41223216', 'newcomer9']"))
+    assert any("has no members" in d.message for d in odd.errors)
