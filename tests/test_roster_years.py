@@ -472,3 +472,40 @@ def test_github_team_list_is_read_and_an_alias_list_names_the_logins(tmp_path: P
     # an "All members" line naming someone not in any group is not skipped
     odd = load(tmp_path, TEAMS.replace("'41223216']", "'41223216', 'newcomer9']"))
     assert any("has no members" in d.message for d in odd.errors)
+
+
+# --- in a built site: layout and aliases from sitegen.yml -------------------------------------
+
+
+def test_site_roster_in_blocks_layout_with_an_alias_list(tmp_path: Path) -> None:
+    from sitegen_helpers import run_build, write_tree
+
+    from sitegen.check import check_site
+    from sitegen.config import parse_config
+    from sitegen.errors import BuildError
+
+    project = write_tree(
+        tmp_path / "p",
+        {
+            "sitegen.yml": "title: T\ncourse_repo: cd2024\nrosters:\n"
+            "  - {name: g, file: data/2a_grouping.txt, aliases: data/2a.txt, layout: blocks}\n",
+            "data/2a_grouping.txt": "2ag2\n40923105\n40923107\n2ag1\n40923108\n",
+            "data/2a.txt": "學號\tgithub 帳號\n40923105\tCYC40923105\n40923108\ts40923108\n",
+            "content/index.md": "# Home\n\n::: roster g\n",
+        },
+    )
+    out = tmp_path / "o"
+    run_build(project, out, strict=True)
+    page = (out / "g.html").read_text(encoding="utf-8")
+    assert page.index("2ag1") < page.index("2ag2")
+    assert 'href="https://github.com/CYC40923105/cd2024"' in page
+    assert 'href="https://s40923108.github.io/cd2024"' in page
+    assert check_site(out) == []
+    (project / "data" / "2a.txt").unlink()
+    with pytest.raises(BuildError) as exc:
+        run_build(project, out, strict=True)
+    said = [str(d) for d in exc.value.diagnostics]
+    assert any("data/2a.txt: error: rosters[g].aliases: file not found" in d for d in said)
+    with pytest.raises(BuildError) as bad:
+        parse_config("rosters:\n  - {name: s1, file: s1.txt, layout: columns}\n", tmp_path)
+    assert "auto, paired, ids, rows, blocks, lists" in str(bad.value.diagnostics[0])
