@@ -18,11 +18,11 @@ from typing import TextIO
 
 from located.verbosity import add_verbosity
 
+from .detect import LAYOUTS
 from .diff import diff
 from .emit import to_csv, to_html, to_json
 from .load import load_roster
 from .model import WHOLE_FILE, Diagnostic, RosterError, RosterResult, printable
-from .parse_tsv import LAYOUTS
 
 EMITTERS: dict[str, Callable[[RosterResult], str]] = {
     "html": to_html,
@@ -52,8 +52,15 @@ def _add_input_options(p: argparse.ArgumentParser) -> None:
         "--layout",
         choices=LAYOUTS,
         default="auto",
-        help="tab-separated layout: paired (id, account, ...), ids (ids only), "
-        "or auto (detect; the default)",
+        help="text layout: paired (group, id, account, ...), ids (group, ids), rows (one "
+        "member a line with a group column), blocks (a group label line, then ids), "
+        "lists (Python lists), or auto (detect; the default)",
+    )
+    p.add_argument(
+        "--aliases",
+        metavar="FILE",
+        help="an id -> GitHub account list (id<TAB>account lines, CSV or YAML) applied as "
+        "aliases; the corrections file's own aliases win",
     )
     p.add_argument(
         "--marks",
@@ -102,6 +109,7 @@ def _load(args: argparse.Namespace, file: str | None = None) -> RosterResult:
         course_repo=getattr(args, "course_repo", "cd2021"),
         layout=getattr(args, "layout", "auto"),
         marks=[w.strip() for w in marks.split(",") if w.strip()] if marks is not None else None,
+        aliases=getattr(args, "aliases", None),
     )
 
 
@@ -134,6 +142,8 @@ def _check(args: argparse.Namespace, out: TextIO) -> int:
         file=out,
     )
     print(f"corrections: {p(result.corrections_file or 'none')}", file=out)
+    if result.aliases_file:
+        print(f"aliases: {p(result.aliases_file)}", file=out)
     for g in groups:
         print(
             f"{p(g.name)}  (slug {p(g.slug)}, leader {p(g.leader or '-')}, "

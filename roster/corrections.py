@@ -28,8 +28,9 @@ from pathlib import Path
 import regex
 import yaml
 
+from .aliases import Alias
 from .model import Diagnostic, MarkRule, quoted
-from .records import Collector, RawGroup
+from .records import Collector, RawGroup, RawMember
 from .source import decode, read_bytes
 from .yamlnodes import ROOT, Node, Walker, compose, line_of
 
@@ -76,6 +77,8 @@ class Corrections:
     # earlier cohort): id -> reason. Silences the id-shape warning for exactly those ids.
     expected_ids: dict[str, Entry] = field(default_factory=dict)
     marks: dict[str, MarkRule] = field(default_factory=dict)  # mark word -> what it means
+    # an alias list given beside the corrections (`aliases=`, roster.aliases): id -> account
+    listed_aliases: dict[str, Alias] = field(default_factory=dict)
 
     def entries(self) -> list[Entry | NameRule]:
         return [
@@ -264,11 +267,13 @@ def _fix_typos(run: _Run, groups: list[RawGroup]) -> None:
 
 
 def _apply_aliases(run: _Run, groups: list[RawGroup]) -> None:
-    """A student's GitHub account by id; one that is already right is reported as confirmed."""
+    """A student's GitHub account by id; one that is already right is reported as confirmed.
+    The corrections' own aliases come first; then the alias list's."""
     for group in groups:
         for m in group.members:
             alias = run.corr.aliases.get(m.id)
             if alias is None:
+                _apply_listed(run, m)
                 continue
             m.explained = True
             if m.account == alias.value:
@@ -279,6 +284,34 @@ def _apply_aliases(run: _Run, groups: list[RawGroup]) -> None:
             run.report(m.line, m.account_field, message, alias)
             m.account = alias.value
             m.account_given = True
+
+
+def _apply_listed(run: _Run, m: RawMember) -> None:
+    """The alias list's account for a member, reported with the list's file and line; for a
+    member known by GitHub login alone, the list's id for that account."""
+    if m.login_only:
+        by_account = {a.account.lower(): a for a in run.corr.listed_aliases.values()}
+        alias = by_account.get(m.account.lower())
+        if alias is not None:
+            alias.matched = m.explained = True
+            message = (
+                f"id of GitHub login {quoted(m.account)}: {alias.id} [{alias.file}:{alias.line}]"
+            )
+            run.applied.append(Diagnostic(run.roster_file, m.line, m.field, message, "info"))
+            m.id, m.login_only = alias.id, False
+        return
+    alias = run.corr.listed_aliases.get(m.id)
+    if alias is None:
+        return
+    alias.matched = m.explained = True
+    where = f"[{alias.file}:{alias.line}]"
+    if m.account == alias.account:
+        message = f"alias: account of {m.id} is already {quoted(alias.account)} (confirmed) {where}"
+    else:
+        message = f"alias: account of {m.id} {quoted(m.account)} -> {quoted(alias.account)} {where}"
+        m.account = alias.account
+        m.account_given = True
+    run.applied.append(Diagnostic(run.roster_file, m.line, m.account_field, message, "info"))
 
 
 def _rename_groups(run: _Run, groups: list[RawGroup]) -> None:
@@ -348,7 +381,22 @@ def _note_expected_ids(run: _Run, groups: list[RawGroup]) -> None:
 
 
 def _warn_unmatched(run: _Run) -> None:
-    """An entry that changed nothing is stale or mistyped itself: a warning at its line."""
+    """An entry that changed nothing is stale or mistyped itself: a warning at its line. An
+    alias list covers a whole class, most of it in other rosters: one info line for it."""
+    listed = run.corr.listed_aliases.values()
+    unused = [a for a in listed if not a.matched]
+    if unused:
+        first = min(unused, key=lambda a: a.line)
+        run.applied.append(
+            Diagnostic(
+                first.file,
+                first.line,
+                "aliases",
+                f"{len(unused)} of {len(listed)} aliases in the list name no student of "
+                f"{run.roster_file} (first here)",
+                "info",
+            )
+        )
     for entry in run.corr.entries():
         if entry.matched:
             continue

@@ -11,7 +11,9 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Literal
 
-from .corrections import apply_corrections, find_corrections, load_corrections
+from .aliases import load_aliases
+from .corrections import Corrections, apply_corrections, find_corrections, load_corrections
+from .detect import LAYOUTS
 from .model import (
     DEFAULT_MARKS,
     WHOLE_FILE,
@@ -23,13 +25,13 @@ from .model import (
     RosterResult,
 )
 from .parse_csv import parse_csv
-from .parse_tsv import LAYOUTS, parse_tsv
+from .parse_text import parse_text
 from .parse_yaml import parse_yaml
 from .records import Collector, RawGroup
 from .source import decode, detect_format, read_bytes
 from .validate import slug_for, validate
 
-PARSERS = {"tsv": parse_tsv, "csv": parse_csv, "yaml": parse_yaml}
+PARSERS = {"tsv": parse_text, "csv": parse_csv, "yaml": parse_yaml}
 
 PathLike = str | os.PathLike[str]
 
@@ -40,14 +42,17 @@ def load_roster(
     course_repo: str = "cd2021",
     layout: str = "auto",
     marks: Iterable[str] | None = None,
+    aliases: PathLike | None = None,
 ) -> RosterResult:
     """Load a roster file (.txt/.tsv, .csv, .yml/.yaml) with optional corrections.
 
     `corrections=None` uses `<roster stem>.corrections.yml` next to the roster if
     one exists (reported as info); `False` disables that. `layout` is for
-    tab-separated files: "auto" (detect), "paired" (id, account, id, account...) or
-    "ids" (ids only). `marks` lists the mark words (default: the corrections file's
-    `marks:` keys, else `X`). Raises RosterError only when a file cannot be read, has
+    text files: "auto" (detect from the content; `roster.detect`) or one of
+    `roster.detect.TEXT_LAYOUTS`. `marks` lists the mark words (default: the corrections
+    file's `marks:` keys, else `X`). `aliases` names an id -> account list
+    (`roster.aliases`) applied like the corrections' aliases, which win over it. Raises
+    RosterError only when a file cannot be read, has
     an unsupported type or an unknown layout is asked for; everything wrong with the
     content is in `result.diagnostics` (check `result.errors`).
     """
@@ -66,7 +71,7 @@ def load_roster(
             file,
             WHOLE_FILE,
             "layout",
-            f"layout {layout!r} applies to tab-separated rosters (.txt, .tsv)",
+            f"layout {layout!r} applies to text rosters (.txt, .tsv)",
         )
     source = decode(read_bytes(roster_path), file, fmt)
 
@@ -101,22 +106,24 @@ def load_roster(
         c.info(WHOLE_FILE, where, message)
     c.diagnostics.extend(source.diagnostics)
     if fmt == "tsv":
-        groups = parse_tsv(source.lines, c, layout)
+        groups = parse_text(source.lines, c, layout)
     else:
         groups = PARSERS[fmt](source.lines, c)
 
     applied = []
     expected_ids: set[str] = set()
+    unusable = corrections_path is not None and corr is None
+    if aliases is not None:
+        listed, alias_diags = load_aliases(aliases)
+        extra.extend(alias_diags)
+        corr = corr or Corrections(str(aliases))  # the list alone: no (usable) corrections
+        corr.listed_aliases = listed
+    if unusable:
+        _unusable_corrections(c, corrections_path)
     if corr is not None:
         applied, problems = apply_corrections(groups, corr, file)
         extra.extend(problems)
         expected_ids = set(corr.expected_ids)
-    elif corrections_path is not None:
-        c.error(
-            WHOLE_FILE,
-            "corrections",
-            f"corrections file {corrections_path} has errors; no corrections applied",
-        )
 
     if not groups and not any(d.severity == "error" for d in c.diagnostics):
         c.error(1, "file", "no groups found in the roster")
@@ -130,11 +137,17 @@ def load_roster(
         corrections_applied=applied,
         file=file,
         corrections_file=str(corrections_path) if corrections_path else None,
+        aliases_file=str(aliases) if aliases is not None else None,
         course_repo=course_repo,
         format=fmt,
         layout=c.layout,
         mark_rules=rules,
     )
+
+
+def _unusable_corrections(c: Collector, path: Path | None) -> None:
+    message = f"corrections file {path} has errors; no corrections applied"
+    c.error(WHOLE_FILE, "corrections", message)
 
 
 def freeze(groups: list[RawGroup]) -> Roster:

@@ -124,9 +124,10 @@ class RosterResult:
     corrections_applied: list[Diagnostic] = field(default_factory=list)
     file: str = ""
     corrections_file: str | None = None
+    aliases_file: str | None = None
     course_repo: str = "cd2021"
     format: str = ""
-    layout: str = ""  # TSV only: "paired" (id, account, ...) or "ids" (ids only)
+    layout: str = ""  # text rosters: the layout read (roster.detect.TEXT_LAYOUTS)
     mark_rules: dict[str, MarkRule] = field(default_factory=dict)
 
     def marks_of(self, member: Member) -> list[MarkRule]:

@@ -4,14 +4,19 @@ This is the format a spreadsheet or LMS export produces most easily. Rows of a
 group need not be adjacent; groups keep the order of their first row. Optional
 columns: `leader` (a truthy cell marks the group leader) and `notes`. The link
 columns written by `roster.emit.to_csv` are recognised and ignored, so its
-output can be read back; any other column is reported and ignored.
+output can be read back. An export's own headers are read by their words
+(`學號,姓名,GitHub帳號,組別`: `roster.labels`); its other columns (names, classes,
+e-mails) are listed once as ignored, and up to three title rows above the header are
+skipped with a note. A bare group number is named `group N`, as in text rosters.
 """
 
 from __future__ import annotations
 
 import csv
 
+from .labels import column_role
 from .model import quoted
+from .parse_rows import group_name as group_name_of
 from .records import Collector, RawGroup, make_member
 
 REQUIRED = ("group", "id")
@@ -19,24 +24,42 @@ OPTIONAL = ("account", "leader", "notes")
 DERIVED = ("slug", "repo_url", "site_url", "group_repo_url", "group_site_url")
 TRUE_CELLS = {"1", "y", "yes", "true", "x", "leader", "*", "✓"}
 FALSE_CELLS = {"", "0", "n", "no", "false", "-"}
+MAX_TITLE_ROWS = 3  # rows an export may put above its header
+
+
+def _roles(row: list[str]) -> dict[str, int]:
+    """Column name -> index, by exact name first, then by the course's words for it
+    (`學號` id, `GitHub帳號` account, `組別` group, `備註` notes; `roster.labels`)."""
+    columns: dict[str, int] = {}
+    for i, cell in enumerate(row):
+        name = cell.strip().lower()
+        if name in REQUIRED or name in OPTIONAL or name in DERIVED:
+            columns.setdefault(name, i)
+    for i, cell in enumerate(row):
+        role = column_role(cell)
+        if role in ("id", "account", "group", "notes") and i not in columns.values():
+            columns.setdefault(role, i)
+    return columns
 
 
 def _header(row: list[str], lineno: int, c: Collector) -> dict[str, int] | None:
     """Map known column names to indexes, or report why the header is unusable."""
-    columns: dict[str, int] = {}
+    columns = _roles(row)
+    seen: dict[str, int] = {}
+    ignored: list[str] = []
     for i, cell in enumerate(row):
         name = cell.strip().lower()
         where = f"header (col {i + 1})"
-        if name in columns:
+        if name in seen and name in columns:
             c.error(lineno, where, f"column {quoted(name)} appears twice")
             return None
-        if name in REQUIRED or name in OPTIONAL:
-            columns[name] = i
-        elif name in DERIVED:
-            columns[name] = i
+        seen[name] = i
+        if name in DERIVED:
             c.info(lineno, where, f"column {quoted(name)} is derived from the roster and ignored")
-        else:
-            c.warning(lineno, where, f"unknown column {quoted(cell.strip())} ignored")
+        elif i not in columns.values():
+            ignored.append(f"{quoted(cell.strip())} (col {i + 1})")
+    if ignored:  # a spreadsheet export's names, classes, e-mails: one line for all of them
+        c.info(lineno, "header", f"columns not part of the roster, ignored: {', '.join(ignored)}")
     missing = [name for name in REQUIRED if name not in columns]
     if missing:
         c.error(
@@ -57,6 +80,8 @@ def parse_csv(lines: list[str], c: Collector) -> list[RawGroup]:
     groups: dict[str, RawGroup] = {}
     columns: dict[str, int] | None = None
     start = 0
+    titles = 0  # rows above the header (an export's title), skipped with a note
+    title_rows: list[tuple[int, list[str]]] = []
     try:
         for row in reader:
             lineno = start + 1
@@ -66,6 +91,10 @@ def parse_csv(lines: list[str], c: Collector) -> list[RawGroup]:
                     c.info(lineno, "line", "blank row skipped")
                 continue
             if columns is None:
+                if titles < MAX_TITLE_ROWS and not all(n in _roles(row) for n in REQUIRED):
+                    titles += 1
+                    title_rows.append((lineno, row))
+                    continue
                 columns = _header(row, lineno, c)
                 if columns is None:
                     rest = sum(1 for r in reader if any(cell.strip() for cell in r))
@@ -77,8 +106,15 @@ def parse_csv(lines: list[str], c: Collector) -> list[RawGroup]:
             _row(row, lineno, columns, groups, c)
     except csv.Error as exc:
         c.error(start + 1, "line", f"CSV syntax error: {exc}")
-    if columns is None:
+    if columns is None and title_rows:  # no header anywhere: the first row was meant as one
+        lineno, row = title_rows[0]
+        _header(row, lineno, c)
+        c.error(lineno, "header", f"file not read: {len(title_rows)} row(s) including this one")
+    elif columns is None:
         c.error(1, "header", "empty file: expected a header with columns group,id,account")
+    else:
+        for lineno, row in title_rows:
+            c.info(lineno, "line", f"title row above the header skipped: {quoted(','.join(row))}")
     return list(groups.values())
 
 
@@ -115,6 +151,7 @@ def _row(
         col.get("account", "account"),
         # Without an account column the header warning already said it once.
         missing_account="empty account" if "account" in columns else None,
+        missing_severity="info",  # the course's lists: not every student has an account yet
     )
     if member is None:
         if not _cell(row, columns, "id").strip() and not account_raw.strip():
@@ -126,6 +163,7 @@ def _row(
     if not group_name:
         c.error(lineno, col["group"], f"group name is empty for member {member.id}")
         return
+    group_name = group_name_of(group_name)
     group = groups.get(group_name)
     if group is None:
         group = groups[group_name] = RawGroup(name=group_name, line=lineno, field=col["group"])

@@ -1,4 +1,4 @@
-"""The course's tab-separated rosters, in two layouts.
+"""The course's one-group-a-line rosters, in two layouts (`detect` picks these or another).
 
 `paired` (stage 3): `group<TAB>id<TAB>account<TAB>id<TAB>account...`; `ids` (earlier
 stages): `group<TAB>id<TAB>id...`, each account being the id unless the corrections give
@@ -21,6 +21,10 @@ import re
 from collections import Counter
 from dataclasses import dataclass
 
+from .labels import ACCOUNT_LABEL as _ACCOUNT_LABEL
+from .labels import GROUP_HEADERS as _HEADER_GROUP
+from .labels import MEMBER_LABEL as _HEADER_LABEL
+from .labels import id_like
 from .model import WHOLE_FILE, quoted
 from .records import (
     Collector,
@@ -31,13 +35,6 @@ from .records import (
     split_mark_words,
     split_marks,
 )
-
-LAYOUTS = ("auto", "paired", "ids")
-_HEADER_GROUP = {"組別", "組名", "分組", "組", "小組", "group", "groups", "team", "name"}
-_HEADER_LABEL = re.compile(
-    r"(組員|成員|學號|帳號|member|student|id|account|github)[\s_-]*\d*", re.IGNORECASE
-)
-_ACCOUNT_LABEL = re.compile(r"帳號|account|github", re.IGNORECASE)
 
 
 def _ranges(numbers: list[int]) -> str:
@@ -78,14 +75,22 @@ def _clean(value: str, c: Collector) -> str:
     return split_marks(split_mark_words(value, c.mark_words)[0])[0]
 
 
+_HEADER_WORD = re.compile(r"組員|成員|組別|分組|學號|帳號|member|account|github", re.IGNORECASE)
+
+
 def _header(line: str, c: Collector) -> str | None:
     """ "ids" or "paired" if `line` is a header row, else None."""
     fields = [f.strip() for f in line.split("\t")]
     labels = [f for f in fields[1:] if f]
-    if not labels or any(_clean(f, c).isdigit() for f in labels):
+    if not labels or any(id_like(_clean(f, c)) for f in fields):
         return None
     first = fields[0].lower()
-    if first not in _HEADER_GROUP and not all(_HEADER_LABEL.fullmatch(f) for f in labels):
+    strict = not any(_clean(f, c).isdigit() for f in labels) and (
+        first in _HEADER_GROUP or all(_HEADER_LABEL.fullmatch(f) for f in labels)
+    )
+    # written with spaces, `2a cad2021 member 1 member 2` splits into words: its words say it
+    loose = any(_HEADER_WORD.search(f) for f in fields)
+    if not (strict or loose):
         return None
     return "paired" if any(_ACCOUNT_LABEL.search(f) for f in labels) else "ids"
 

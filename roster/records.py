@@ -103,6 +103,7 @@ class RawMember:
     raw_account: str = ""
     explained: bool = False  # an alias set or confirmed the account
     marks: tuple[str, ...] = ()
+    login_only: bool = False  # known by GitHub login alone: the id stands in until an alias list
 
 
 @dataclass(slots=True)
@@ -128,16 +129,51 @@ def describe_members(members: list[RawMember]) -> str:
     return ", ".join(parts) or "none"
 
 
+EXAMPLES = 5  # occurrences named in a summary of one kind of anomaly
+
+
+@dataclass(slots=True)
+class _Kind:
+    """Every occurrence of one kind of anomaly in a file, reported together
+    (`Collector.anomaly`)."""
+
+    severity: Severity
+    summary: str  # with {n} and {examples}
+    found: list[tuple[int | None, str, str, str]] = field(default_factory=list)
+    # (line, field, message for this one alone, short example naming it)
+
+
 class Collector:
     """Gathers diagnostics for one file and aggregates the noisy, harmless ones."""
 
     def __init__(self, file: str, mark_words: frozenset[str] = frozenset({"X"})) -> None:
         self.file = file
         self.mark_words = mark_words  # whole words beside an id or account that are marks
-        self.layout = ""  # set by the TSV parser: "paired" or "ids"
+        self.layout = ""  # set by the text parsers: "paired", "ids", "rows", "blocks", "lists"
         self.diagnostics: list[Diagnostic] = []
         self._trimmed = 0
         self._first_trim: tuple[int, str] | None = None
+        self._kinds: dict[str, _Kind] = {}
+
+    def anomaly(
+        self,
+        kind: str,
+        severity: Severity,
+        line: int | None,
+        where: str,
+        message: str,
+        example: str,
+        summary: str,
+    ) -> None:
+        """One occurrence of a kind of anomaly (an id unlike the others, an account with no
+        alias...). A kind seen once is reported as ``message``; a kind seen several times is
+        one diagnostic at its first line, ``summary`` with ``{n}`` (the count) and
+        ``{examples}`` (the first few ``example`` texts), and each occurrence as info (shown
+        with ``-v``): a file of 50 such lines gives one warning, not 50, and loses none."""
+        entry = self._kinds.get(kind)
+        if entry is None:
+            entry = self._kinds[kind] = _Kind(severity, summary)
+        entry.found.append((line, where, message, example))
 
     def add(self, severity: Severity, line: int | None, where: str, message: str) -> None:
         self.diagnostics.append(Diagnostic(self.file, line, where, message, severity))
@@ -165,6 +201,21 @@ class Collector:
                 line, where, f"spaces around {self._trimmed} value(s) trimmed (first one here)"
             )
             self._first_trim = None
+        for kind in self._kinds.values():
+            kind.found.sort(key=lambda found: found[0] or 0)  # examples in file order
+            if len(kind.found) == 1:
+                line, where, message, _ = kind.found[0]
+                self.add(kind.severity, line, where, message)
+                continue
+            examples = ", ".join(example for *_, example in kind.found[:EXAMPLES])
+            if len(kind.found) > EXAMPLES:
+                examples += f" and {len(kind.found) - EXAMPLES} more (-v lists them)"
+            line, where = kind.found[0][:2]
+            summary = kind.summary.format(n=len(kind.found), examples=examples)
+            self.add(kind.severity, line, where, summary)
+            for line, where, message, _ in kind.found:
+                self.info(line, where, message)
+        self._kinds = {}
         return self.diagnostics
 
 
@@ -176,13 +227,16 @@ def make_member(
     id_field: str,
     account_field: str,
     missing_account: str | None = "no account given",
+    missing_severity: Severity = "warning",
 ) -> RawMember | None:
     """Clean one (id, account) slot into a RawMember, reporting marks, defaults and bad ids.
 
     Returns None (with an error that quotes every value of the slot, so no id is
     lost silently) when the id is not an id. The caller handles fully empty slots.
     `missing_account` names the situation in the "account defaults to the id"
-    warning; None suppresses it (the caller reported it once already).
+    warning; None suppresses it (the caller reported it once already). `missing_severity`
+    is "info" where the layout expects some accounts to be missing (the course's
+    one-member-a-line lists: a student who has not registered an account yet).
     """
     if id_raw != id_raw.strip():
         c.trimmed(line, id_field)
@@ -248,12 +302,27 @@ def make_member(
             c.info(line, where, f"mark {quoted(word)} beside {sid} kept on the member")
     for marks, where in ((id_marks, id_field), (account_marks, account_field)):
         for mark in marks:
-            c.warning(line, where, f"annotation {quoted(mark)} beside {sid} kept as a member note")
+            c.anomaly(
+                "annotation",
+                "warning",
+                line,
+                where,
+                f"annotation {quoted(mark)} beside {sid} kept as a member note",
+                f"{quoted(mark)} beside {sid} (line {line})",
+                "{n} annotations beside ids kept as member notes: {examples}",
+            )
     given = bool(account)
     if not given:
         if missing_account is not None and not account_words:  # `40823151<TAB>X`: a mark
-            c.warning(
-                line, account_field, f"{missing_account} for {sid}; the account defaults to the id"
+            c.anomaly(
+                f"no account: {missing_account}",
+                missing_severity,
+                line,
+                account_field,
+                f"{missing_account} for {sid}; the account defaults to the id",
+                f"{sid} (line {line})",
+                f"{missing_account} for {{n}} members; each account defaults to the id: "
+                "{examples}",
             )
         account = sid
     return RawMember(

@@ -139,4 +139,40 @@ def decode(data: bytes, file: str, fmt: str) -> SourceText:
         diags.append(
             Diagnostic(file, 1, "file", f"CRLF line endings normalised ({crlf} lines)", "info")
         )
+    if fmt != "yaml":
+        _fullwidth_to_ascii(lines, file, diags)
     return SourceText(file, lines, diags)
+
+
+# Full-width letters and digits (typed with a Chinese input method: `４０９２３１０１`) -> ASCII.
+_FULLWIDTH = {
+    cp: cp - 0xFEE0
+    for r in ((0xFF10, 0xFF19), (0xFF21, 0xFF3A), (0xFF41, 0xFF5A))
+    for cp in range(r[0], r[1] + 1)
+}
+
+
+def _fullwidth_to_ascii(lines: list[str], file: str, diags: list[Diagnostic]) -> None:
+    """Read full-width letters and digits as ASCII, so `４０９２３１０１` is the id 40923101 and
+    `２ａｇ１` the label 2ag1; said once (count and first line). Other characters, full-width
+    brackets of annotations included, are left as typed."""
+    count = 0
+    first = 0
+    for i, line in enumerate(lines):
+        if any(0xFF10 <= ord(ch) <= 0xFF5A for ch in line):
+            new = line.translate(_FULLWIDTH)
+            changed = sum(a != b for a, b in zip(line, new, strict=True))
+            if changed:
+                count += changed
+                first = first or i + 1
+                lines[i] = new
+    if count:
+        diags.append(
+            Diagnostic(
+                file,
+                first,
+                "file",
+                f"{count} full-width letter(s) or digit(s) read as ASCII (first on this line)",
+                "info",
+            )
+        )

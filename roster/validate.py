@@ -64,9 +64,23 @@ def validate(
     _check_groups(groups, c)
     members = [m for g in groups for m in g.members]
     _check_memberships(groups, c)
-    _check_id_shapes([m for m in members if m.id not in expected_ids], c)
-    _check_near_duplicates(members, c, expected_ids)
+    _check_id_shapes([m for m in members if m.id not in expected_ids and not m.login_only], c)
+    _check_near_duplicates([m for m in members if not m.login_only], c, expected_ids)
     _check_accounts(members, c)
+    for m in members:
+        if m.login_only:
+            c.anomaly(
+                "login without id",
+                "warning",
+                m.line,
+                m.field,
+                f"GitHub login {quoted(m.account)} holds no student id; "
+                "the login stands in for the id",
+                f"{m.account} (line {m.line})",
+                "{n} members are known by GitHub login alone (no student id in it); each "
+                "login stands in for the id until an alias list (--aliases, id -> account) "
+                "names them: {examples}",
+            )
 
 
 def _check_groups(groups: list[RawGroup], c: Collector) -> None:
@@ -118,7 +132,7 @@ def _check_memberships(groups: list[RawGroup], c: Collector) -> None:
     first: dict[str, tuple[RawGroup, RawMember]] = {}
     for g in groups:
         for m in g.members:
-            if not is_student_id(m.id):
+            if not is_student_id(m.id) and not m.login_only:
                 c.error(m.line, m.field, f"{quoted(m.id)} is not a student id (after corrections)")
             seen = first.get(m.id)
             if seen is None:
@@ -149,9 +163,18 @@ def _check_memberships(groups: list[RawGroup], c: Collector) -> None:
 
 
 def _check_id_shapes(members: list[RawMember], c: Collector) -> None:
-    """Warn about ids whose length or 3-character prefix differs from most ids in the file."""
+    """Warn about ids whose length or 3-character prefix differs from most ids in the file
+    (students from earlier cohorts, or typos): one warning for all of them."""
     length = _majority([str(len(m.id)) for m in members])
     prefix = _majority([m.id[:3] for m in members])
+    most = " and ".join(
+        part
+        for part in (
+            f"{length} characters" if length else "",
+            f"start with {prefix!r}" if prefix else "",
+        )
+        if part
+    )
     for m in members:
         why = []
         if length is not None and str(len(m.id)) != length:
@@ -159,7 +182,33 @@ def _check_id_shapes(members: list[RawMember], c: Collector) -> None:
         if prefix is not None and m.id[:3] != prefix:
             why.append(f"starts with {m.id[:3]!r} where most ids start with {prefix!r}")
         if why:
-            c.warning(m.line, m.field, f"id {m.id} looks unlike the others: {'; '.join(why)}")
+            c.anomaly(
+                "id shape",
+                "warning",
+                m.line,
+                m.field,
+                f"id {m.id} looks unlike the others: {'; '.join(why)}",
+                f"{m.id} (line {m.line})",
+                f"{{n}} ids look unlike the others (most ids are {most}): {{examples}}; "
+                "students from other cohorts? (list them under expected_ids in the "
+                "corrections to silence this)",
+            )
+
+
+_PREFIX = re.compile(r"[A-Za-z]*[-_.]?")
+_SUFFIX = re.compile(r"(?:[-_.][A-Za-z0-9]+|[A-Za-z][A-Za-z0-9]*)?")
+
+
+def id_with_letters(account: str, sid: str) -> bool:
+    """Whether ``account`` is the student id with letters before or a suffix after it
+    (`s40723140`, `a40823112`, `40923126-1`, `40923149r`): the usual GitHub account when the
+    bare id was taken, never a column slip. A digit glued on (`409231044`) is not."""
+    start = account.lower().find(sid.lower())
+    if start < 0 or account.lower() == sid.lower():
+        return False
+    return bool(
+        _PREFIX.fullmatch(account[:start]) and _SUFFIX.fullmatch(account[start + len(sid) :])
+    )
 
 
 def _check_accounts(members: list[RawMember], c: Collector) -> None:
@@ -175,28 +224,75 @@ def _check_accounts(members: list[RawMember], c: Collector) -> None:
                 f"account {quoted(shown)} {reason}; no link is made for {m.id}",
             )
             continue
+        example = f"{m.account} for {m.id} (line {m.line})"
         problem = github_username_problem(m.account)
         if problem:
-            c.warning(m.line, m.account_field, f"account {quoted(m.account)} {problem}")
-        if m.account != m.id and not m.explained:
-            if m.account in ids or (m.account.isdigit() and len(m.account) == len(m.id)):
-                hint = "it looks like another student id; is a column missing?"
-            else:
-                hint = "add an alias to the corrections file if it is right"
-            c.warning(
+            c.anomaly(
+                "github username",
+                "warning",
                 m.line,
                 m.account_field,
-                f"account {quoted(m.account)} differs from id {m.id} with no alias; {hint}",
+                f"account {quoted(m.account)} {problem}",
+                example,
+                "{n} accounts are not valid GitHub usernames: {examples}",
             )
+        if m.account != m.id and not m.explained:
+            _account_differs(m, ids, example, c)
         other = owners.get(m.account.lower())
         if other is not None and other.id != m.id:
-            c.warning(
+            c.anomaly(
+                "shared account",
+                "warning",
                 m.line,
                 m.account_field,
                 f"account {quoted(m.account)} is also used by {other.id} (line {other.line}); "
                 "their links will be the same",
+                f"{m.account} for {other.id} and {m.id} (lines {other.line}, {m.line})",
+                "{n} accounts are used by two students (their links will be the same): {examples}",
             )
         owners.setdefault(m.account.lower(), m)
+
+
+def _account_differs(m: RawMember, ids: set[str], example: str, c: Collector) -> None:
+    """An account unlike its id with no alias: the id with letters added is the usual GitHub
+    form (info); an account that is itself an id hints at a column slip; anything else asks
+    for an alias. Each kind is one line however many members it concerns."""
+    shown = quoted(m.account)
+    if id_with_letters(m.account, m.id):
+        c.anomaly(
+            "account is id with letters",
+            "info",
+            m.line,
+            m.account_field,
+            f"account {shown} is the id {m.id} with letters added",
+            example,
+            "{n} accounts are the student id with letters added (the usual form when the "
+            "bare id was taken on GitHub): {examples}",
+        )
+    elif m.account in ids or m.account.isdigit():
+        c.anomaly(
+            "account looks like an id",
+            "warning",
+            m.line,
+            m.account_field,
+            f"account {shown} differs from id {m.id} with no alias; "
+            "it looks like another student id; is a column missing?",
+            example,
+            "{n} accounts look like student ids but not the member's own (a typo, or a "
+            "column missing?): {examples}",
+        )
+    else:
+        c.anomaly(
+            "account differs",
+            "warning",
+            m.line,
+            m.account_field,
+            f"account {shown} differs from id {m.id} with no alias; "
+            "add an alias to the corrections file if it is right",
+            example,
+            "{n} accounts differ from the student id with no alias: {examples}; add aliases "
+            "(corrections file or an alias list) if they are right",
+        )
 
 
 SERIAL_DIGITS = 3  # the last digits of an id number students within a class
@@ -252,11 +348,12 @@ def _check_near_duplicates(
                 if prefix(variant) == prefix(sid) or frozenset((sid, variant)) in reported:
                     continue
                 reported.add(frozenset((sid, variant)))
-                c.warning(
-                    m.line,
-                    m.field,
+                _near(
+                    c,
+                    m,
                     f"id {sid} is {how} away from {variant} (line {other.line}, {other.field}); "
                     "a typo? (add it to expected_ids in the corrections if both are right)",
+                    f"{sid} ~ {variant} (lines {m.line}, {other.line})",
                 )
                 near_range = None
                 break
@@ -270,10 +367,24 @@ def _check_near_duplicates(
                 near_range = (variant, how)
         if near_range is not None:
             variant, how = near_range
-            c.warning(
-                m.line,
-                m.field,
+            _near(
+                c,
+                m,
                 f"id {sid} is outside the class's id range {low}-{high} "
                 f"but {how} away from {variant} "
                 "inside it; a typo? (add it to expected_ids in the corrections if it is right)",
+                f"{sid} ~ {variant} (line {m.line}, outside {low}-{high})",
             )
+
+
+def _near(c: Collector, m: RawMember, message: str, example: str) -> None:
+    c.anomaly(
+        "near duplicate",
+        "warning",
+        m.line,
+        m.field,
+        message,
+        example,
+        "{n} ids are one typo away from another id or from the class's id range: "
+        "{examples}; typos? (add them to expected_ids in the corrections if they are right)",
+    )

@@ -35,7 +35,8 @@ class RosterConfig:
     section: str
     title: str
     weight: int = 0
-    layout: str = "auto"  # tab-separated rosters: auto, paired or ids (roster.load_roster)
+    layout: str = "auto"  # text rosters: auto or one of roster.detect.TEXT_LAYOUTS
+    aliases: Path | None = None  # an id -> account list (roster.aliases), issue 30
 
 
 @dataclass(frozen=True)
@@ -155,6 +156,7 @@ _ROSTER = {
     "title": "str",
     "weight": "int",
     "layout": "str",
+    "aliases": "str",
 }
 _SIMS = {
     "section": "str",
@@ -296,10 +298,13 @@ def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
                 title=v.get("title", v["name"]),
                 weight=v.get("weight", 0),
                 layout=v.get("layout", "auto"),
+                aliases=root / v["aliases"] if "aliases" in v else None,
             )
         )
-        if out[-1].layout not in ("auto", "paired", "ids"):
-            ck.fail(nodes["layout"], f"{where}.layout", "must be one of auto, paired, ids")
+        from roster.detect import LAYOUTS
+
+        if out[-1].layout not in LAYOUTS:
+            ck.fail(nodes["layout"], f"{where}.layout", f"must be one of {', '.join(LAYOUTS)}")
     return out
 
 

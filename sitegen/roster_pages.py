@@ -46,6 +46,8 @@ class RosterIntegration(Integration):
             h.update(_read(r.file))
             if r.corrections:
                 h.update(_read(r.corrections))
+            if r.aliases:
+                h.update(_read(r.aliases))
         return "roster:" + h.hexdigest()
 
     def _rel(self, path) -> str:
@@ -57,13 +59,14 @@ class RosterIntegration(Integration):
     def prepare(self, diags: Diagnostics, state) -> None:
         self.state_before = dict(state.rosters)
         for rc in self.config.rosters:
-            if rc.corrections is not None and not rc.corrections.is_file():
-                diags.error(
-                    self._rel(rc.corrections),
-                    None,
-                    f"rosters[{rc.name}].corrections",
-                    "file not found",
-                )
+            missing = [
+                (what, path)
+                for what, path in (("corrections", rc.corrections), ("aliases", rc.aliases))
+                if path is not None and not path.is_file()
+            ]
+            for what, path in missing:
+                diags.error(self._rel(path), None, f"rosters[{rc.name}].{what}", "file not found")
+            if missing:
                 continue
             try:
                 result = load_roster(
@@ -71,6 +74,7 @@ class RosterIntegration(Integration):
                     corrections=rc.corrections,
                     course_repo=self.config.course_repo,
                     layout=rc.layout,
+                    aliases=rc.aliases,
                 )
             except RosterError as exc:
                 diags.add(replace(exc.diagnostic, file=self._rel(Path(exc.file))))

@@ -109,7 +109,8 @@ def document_order(content: Path) -> list[Path]:
                 out.append(kid)
         return out
 
-    return visit(content)
+    home = [content / "index.md"] if (content / "index.md").is_file() else []
+    return home + visit(content)
 
 
 def rendered_text(path: Path, exts: list[str]) -> str:
@@ -140,14 +141,15 @@ def test_one_page_per_heading_in_cmsimde_order(template):
     assert len(expected) == len(re.findall(r"<h[1-3][\s>]", TEMPLATE.read_text(encoding="utf-8")))
     pages = document_order(dest)
     assert [split_page(p)[0]["title"] for p in pages] == expected
-    assert not (dest / "index.md").exists()  # nothing before the first heading
+    # nothing before the first heading: the first page is the home page, as cmsimde opens it
+    assert split_page(dest / "index.md")[0] == {"title": "About"}
     assert [p.title for p in report.pages] == expected
 
 
 @needs_real_data
 def test_headings_with_children_become_folders(template):
     dest, _ = template
-    assert (dest / "01-about.md").is_file()
+    assert (dest / "index.md").is_file() and not (dest / "01-about.md").exists()
     assert split_page(dest / "04-cmsimde" / "index.md")[0] == {"title": "CMSiMDE", "weight": 4}
     assert (
         split_page(dest / "04-cmsimde" / "02-基本操作" / "07-檢視-stl.md")[0]["title"] == "檢視 STL"
@@ -192,7 +194,7 @@ def test_raw_html_kept_and_asset_urls_rewritten(template):
     assert wink.count("<video") == 2 and 'src="../downloads/wink_tutorial1.mp4"' in wink
     stl = split_page(dest / "04-cmsimde" / "02-基本操作" / "07-檢視-stl.md")[1]
     assert '<iframe height="400" src="../../static/viewstl.html?src=https://mde.tw/' in stl
-    about = split_page(dest / "01-about.md")[1]
+    about = split_page(dest / "index.md")[1]  # the first page is the home page
     assert "[PythonNotesForProfessionals.pdf](downloads/PythonNotesForProfessionals.pdf)" in about
     assert '<span style="background-color: #00ff00;">Use this template</span>' in about
     # a bare content.htm has no images/ or downloads/ beside it: every file is reported missing
@@ -286,6 +288,7 @@ def test_edge_structure(edge_site, tmp_path):
     pages = document_order(dest)
     titles = [split_page(p)[0]["title"] for p in pages]
     assert titles == [
+        "My 網站",  # the text before the first heading, in a page of its own (below)
         "Starts at H2",
         'Intro: "quotes" & \\back#slash',
         "Deep",
@@ -293,8 +296,8 @@ def test_edge_structure(edge_site, tmp_path):
         "Week 1",
         "Markup in heading",
     ]
-    assert pages[0].name == "01-starts-at-h2.md"
-    assert [p.relative_to(dest).as_posix() for p in pages[2:4]] == [
+    assert pages[1].name == "01-starts-at-h2.md"
+    assert [p.relative_to(dest).as_posix() for p in pages[3:5]] == [
         "02-intro-quotes-back-slash/01-deep.md",
         "02-intro-quotes-back-slash/02-week-1.md",
     ]
@@ -306,10 +309,10 @@ def test_edge_structure(edge_site, tmp_path):
         and "text before the first heading" in report.pages[0].warnings[0]
     )
     # the second "Week 1" was inside a <div>: split there, both pages kept
-    assert "inside a box" in split_page(pages[3])[1]
+    assert "inside a box" in split_page(pages[4])[1]
     assert (
-        "second week" in split_page(pages[4])[1]
-        and "after an empty heading" in split_page(pages[4])[1]
+        "second week" in split_page(pages[5])[1]
+        and "after an empty heading" in split_page(pages[5])[1]
     )
 
 
@@ -401,18 +404,20 @@ def test_first_heading_is_top_level_like_cmsimde(tmp_path):
         "<h3>A</h3><h2>B</h2><h1>C</h1><h3>D</h3>", encoding="utf-8"
     )
     report = import_cmsimde(tmp_path / "content.htm", tmp_path / "out")
+    # A is the first page, so the home page (issue 30): its child B is a top-level page
     assert [p.path for p in report.pages] == [
-        "01-a/index.md",
-        "01-a/01-b.md",
+        "index.md",
+        "01-b.md",
         "02-c/index.md",
         "02-c/01-d.md",
     ]
     assert [p.level for p in report.pages] == [1, 2, 1, 3]
+    assert "the first page, 'A', is the home page (index.md); its 1 sub-page(s)" in report.notes[0]
 
 
 def test_reserved_file_names_avoided(tmp_path):
     (tmp_path / "content.htm").write_text(
-        "<h1>Index</h1><h2>README</h2><h1>x</h1>", encoding="utf-8"
+        "<p>front</p><h1>Index</h1><h2>README</h2><h1>x</h1>", encoding="utf-8"
     )
     import_cmsimde(tmp_path / "content.htm", tmp_path / "out")
     assert (tmp_path / "out" / "01-index-page" / "index.md").is_file()
@@ -431,7 +436,7 @@ def test_dest_must_be_empty_unless_force(tmp_path):
     with pytest.raises(CmsimdeImportError, match="not empty"):
         import_cmsimde(src, dest)
     import_cmsimde(src, dest, force=True)
-    assert sorted(tree_bytes(dest)) == ["01-a.md"]  # replaced, no stale files left
+    assert sorted(tree_bytes(dest)) == ["index.md"]  # replaced, no stale files left
 
 
 def test_force_refuses_a_git_folder_or_the_source(tmp_path):
@@ -532,10 +537,12 @@ def test_imported_template_builds_strict(tmp_path):
         if p.relative_to(output).as_posix() not in generated
         and not p.relative_to(output).parts[0] == "static"
     ]
-    assert len(pages) == len(titles)
+    assert len(pages) == len(titles) - 1  # the first page is the home page, index.html
     # follow rel="next" from the home page: cmsimde's sequence of titles, in order
-    seen, page = [], output / "index.html"
-    for _ in range(len(titles)):
+    page = output / "index.html"
+    title = re.search(r"<title>(.*?)</title>", page.read_text(encoding="utf-8"), re.S).group(1)
+    seen = [html.unescape(title)]
+    for _ in range(len(titles) - 1):
         m = re.search(
             r'<a[^>]*rel="next"[^>]*href="([^"]+)"|<a[^>]*href="([^"]+)"[^>]*rel="next"',
             page.read_text(encoding="utf-8"),

@@ -65,14 +65,15 @@ def test_code_is_never_rewritten_and_check_agrees_with_strict_build(tmp_path: Pa
     project = imported(tmp_path)
     site = tmp_path / "site"
     report = run_build(project, site, strict=True)  # raises BuildError on any warning
-    assert report.pages == 5
+    assert report.pages == 4  # the first page, 首頁, is the home page
     assert assert_code_unchanged(project / "content", site) == 3
     w1 = (site / "w1" / "index.html").read_text("utf-8")
     # inline code keeps the cmsimde path, not "../images/missing.png", and raises no warning
     assert '<code>&lt;img src="/images/missing.png"&gt;</code>' in w1
-    # YouTube iframe and external images pass both checks; //host became https://host
+    # the YouTube iframe is a click-to-load poster (issue 30): no YouTube URL in a src;
+    # external images pass both checks; //host became https://host
     video = (site / "w1" / "影片.html").read_text("utf-8")
-    assert 'src="https://www.youtube.com/embed/dQw4w9WgXcQ"' in video
+    assert 'data-youtube="dQw4w9WgXcQ"' in video and "youtube.com/embed" not in video
     assert 'src="https://mde.tw/images/nfu.png"' in video and 'src="//' not in video
     assert check_site(site) == []
     done = run_cli("check", str(site))
@@ -145,22 +146,35 @@ def test_300kb_site_with_a_malformed_url_imports_every_page(tmp_path: Path) -> N
     for page in report.pages:
         assert (tmp_path / "project" / "content" / page.path).is_file()
     (warning,) = [w for w in report.warnings if MALFORMED in w]
-    assert warning.startswith("W40 第40週進度: malformed URL")
-    assert warning.endswith(f"kept as written (line {bad_line})")
+    assert warning.startswith(f"W40 第40週進度: link '{MALFORMED}': malformed URL")
+    assert warning.endswith(
+        f"its text is kept, not as a link (the URL is in a comment beside it) (line {bad_line})"
+    )
     page = next(p for p in report.pages if p.title == "W40 第40週進度")
     text = (tmp_path / "project" / "content" / page.path).read_text("utf-8")
-    assert MALFORMED in text
+    # a browser cannot follow it either: the text stays, the URL is kept beside it (issue 30)
+    assert f"proxy<!-- link URL that does not parse: {MALFORMED} -->" in text
 
-    # the build reports it the same way (file:line), and --strict fails without a traceback
+    # so the imported site builds with --strict, and the comment reaches the page unchanged
+    site = tmp_path / "site"
+    run_build(tmp_path / "project", site, strict=True)
+    assert check_site(site) == []
+
+
+def test_a_malformed_url_written_in_markdown_is_reported_by_build_and_check(
+    tmp_path: Path,
+) -> None:
+    project = write_tree(
+        tmp_path / "p",
+        {"sitegen.yml": "title: T\n", "content/index.md": f"# H\n\ntext\n\n[proxy]({MALFORMED})\n"},
+    )
     site = tmp_path / "site"
     with pytest.raises(BuildError):
-        run_build(tmp_path / "project", site, strict=True)
-    run_build(tmp_path / "project", site)
-    done = run_cli("build", "--source", str(tmp_path / "project"), "--output", str(site))
+        run_build(project, site, strict=True)
+    done = run_cli("build", "--source", str(project), "--output", str(site))
     assert done.returncode == 0 and "Traceback" not in done.stderr
     (line,) = [ln for ln in done.stderr.splitlines() if MALFORMED in ln]
-    md_line = text.splitlines().index(next(ln for ln in text.splitlines() if MALFORMED in ln))
-    assert f"{page.path}:{md_line + 1}: warning: link: malformed URL" in line
+    assert "content/index.md:5: warning: link: malformed URL" in line
     checked = check_site(site)
     assert [p for p in checked if MALFORMED in p] and all("Traceback" not in p for p in checked)
 
@@ -229,7 +243,7 @@ def test_root_absolute_downloads_become_relative_or_warn(tmp_path: Path) -> None
     report = import_cmsimde(old, tmp_path / "p" / "content")
     content = tmp_path / "p" / "content"
     assert (content / "downloads" / "vrep_remoteapi_ex.7z").read_bytes() == b"7z"
-    assert "[ok](downloads/vrep_remoteapi_ex.7z)" in (content / "01-a.md").read_text()
+    assert "[ok](downloads/vrep_remoteapi_ex.7z)" in (content / "index.md").read_text()
     assert "[gone](../downloads/gone.7z)" in (content / "02-b" / "01-c.md").read_text()
     assert "C: link /downloads/gone.7z names downloads/gone.7z, which is not in the site" in (
         "\n".join(report.warnings)

@@ -201,10 +201,16 @@ def test_paired_roster_with_real_accounts_stays_paired(tmp_path: Path) -> None:
 def test_near_duplicate_ids_are_warned_with_both_lines() -> None:
     r = load_roster(FIXTURES / "near_duplicates.txt")
     assert r.ok
-    pair = [d for d in r.warnings if "one transposition away from 40823244" in d.message]
+    # one warning for the kind, naming both, at the first one's line ...
+    (summary,) = [d for d in r.warnings if "one typo away" in d.message]
+    assert summary.line == 2 and summary.message.startswith("2 ids are one typo away")
+    assert "40832244 ~ 40823244 (lines 2, 3)" in summary.message
+    assert "40832242 ~ 40823242 (line 3, outside 40823241-40823250)" in summary.message
+    # ... and each one in full, with its line, among the info notes (`check -v`)
+    pair = [d for d in r.infos if "one transposition away from 40823244" in d.message]
     assert len(pair) == 1 and pair[0].line == 2
     assert "(line 3, member 1 id (col 2))" in pair[0].message
-    (ranged,) = [d for d in r.warnings if "outside the class's id range" in d.message]
+    (ranged,) = [d for d in r.infos if "outside the class's id range" in d.message]
     assert ranged.line == 3 and "40832242" in ranged.message and "40823242" in ranged.message
     assert "40823241-40823250" in ranged.message
 

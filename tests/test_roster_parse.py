@@ -57,9 +57,15 @@ def test_messy_fixture_reports_what_it_tolerated() -> None:
     assert f"{file}:4: info: line: empty member slot(s) 3-4 skipped" in infos
     assert any("spaces around 2 value(s) trimmed" in d for d in infos)
     warnings = [str(d) for d in r.warnings]
+    # three annotations: one warning naming them, each one in full among the info notes
     assert (
-        f"{file}:1: warning: member 1 id (col 2): "
-        "annotation '*' beside 40823101 kept as a member note" in warnings
+        f"{file}:1: warning: member 1 id (col 2): 3 annotations beside ids kept as member "
+        "notes: '*' beside 40823101 (line 1), '(dropped)' beside 40823102 (line 1), "
+        "'?' beside 40823104 (line 3)" in warnings
+    )
+    assert (
+        f"{file}:1: info: member 1 id (col 2): "
+        "annotation '*' beside 40823101 kept as a member note" in infos
     )
     assert (
         f"{file}:3: warning: member 2 account (col 5): "
@@ -187,10 +193,22 @@ def test_big5_file_is_reported_not_crashed(tmp_path: Path) -> None:
     assert r.errors and all(d.line == 1 for d in r.errors)
 
 
-def test_space_separated_line_is_an_error_not_a_group(tmp_path: Path) -> None:
-    r = load_text(tmp_path, "g 40823101 40823101\n")
+def test_space_separated_line_in_a_tab_file_is_an_error_not_a_group(tmp_path: Path) -> None:
+    r = load_text(tmp_path, "f\t40823102\t40823102\ng 40823101 40823101\n")
     (e,) = [d for d in r.errors if "no tab" in d.message]
-    assert e.line == 1 and "40823101" in e.message
+    assert e.line == 2 and "40823101" in e.message
+
+
+def test_a_file_written_with_spaces_throughout_is_read(tmp_path: Path) -> None:
+    """Issue 30: other years' files use spaces (or full-width spaces) instead of tabs."""
+    r = load_text(tmp_path, "g 40823101 40823101\u3000a40823102  a40823102\ngroup 2: 40823103\n")
+    assert r.ok, [str(d) for d in r.errors]
+    assert members(r) == [
+        ("g", "40823101", "40823101"),
+        ("g", "a40823102", "a40823102"),
+        ("group 2", "40823103", "40823103"),
+    ]
+    assert any("no tabs in the file" in d.message for d in r.infos)
 
 
 def test_empty_group_name_keeps_ids_in_the_error(tmp_path: Path) -> None:
@@ -271,8 +289,8 @@ def test_csv_leader_column_and_unknown_column(tmp_path: Path) -> None:
     text = "group,id,account,leader,name\ng,40823101,40823101,,Ann\ng,40823102,40823102,yes,Bob\n"
     r = load_text(tmp_path, text, "r.csv")
     assert r.roster.groups[0].leader == "40823102"
-    (w,) = find(r, "warning", "unknown column 'name' ignored")
-    assert w.field == "header (col 5)"
+    (note,) = find(r, "info", "columns not part of the roster, ignored: 'name' (col 5)")
+    assert note.line == 1 and not r.warnings
 
 
 def test_csv_extra_cells_are_not_dropped_silently(tmp_path: Path) -> None:

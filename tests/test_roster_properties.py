@@ -148,6 +148,8 @@ def test_csv_and_yaml_never_raise(tmp_path: Path, text: str, ext: str) -> None:
 def test_no_member_is_lost(tmp_path: Path, text: str) -> None:
     """Every id-like token of the input is in the output or named in an error."""
     result = load_text(tmp_path, text)
+    if [d.field for d in result.errors] == ["layout"] and not result.roster.groups:
+        return  # the file as a whole fits no layout: one error refuses it (issue 30)
     seen = json.dumps(result.to_dict(), ensure_ascii=False) + "\n".join(
         str(d) for d in result.errors
     )

@@ -107,7 +107,9 @@ def test_id_with_different_prefix_or_length_is_warned(tmp_path: Path) -> None:
     text = "g\t40823101\t40823101\t40823102\t40823102\t40623103\t40623103\t4082310\t4082310\n"
     r = load(tmp_path, text)
     assert r.errors == []
-    warned = {d.message.split()[1]: d.message for d in r.warnings if "looks unlike" in d.message}
+    (summary,) = [d for d in r.warnings if "look unlike" in d.message]
+    assert summary.message.startswith("2 ids look unlike the others")
+    warned = {d.message.split()[1]: d.message for d in r.infos if "looks unlike" in d.message}
     assert set(warned) == {"40623103", "4082310"}
     assert "starts with '406' where most ids start with '408'" in warned["40623103"]
     assert "7 characters where most ids have 8" in warned["4082310"]

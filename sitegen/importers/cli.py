@@ -32,6 +32,19 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         help="folder to create (default: content); must be empty unless --force",
     )
     cms.add_argument("--force", action="store_true", help="replace DEST even if it is not empty")
+    cms.add_argument(
+        "--base-url",
+        metavar="URL",
+        help="where the site is published, e.g. https://USER.github.io/REPO/ (written to "
+        "sitegen.yml; default: from the site's GitHub remote, if it has one)",
+    )
+    cms.add_argument(
+        "--youtube",
+        choices=("poster", "keep"),
+        default="poster",
+        help="YouTube iframes: a click-to-load poster that loads nothing from YouTube until "
+        "played (default), or keep them as they were",
+    )
     add_verbosity(
         cms,
         "print only the warnings, each with its page",
@@ -63,9 +76,14 @@ def format_report(report: ImportReport, verbosity: int = 0) -> str:
         indent = "  " * depth
         lines.append(f"  {indent}{page.path}  [{page.title}]")
         lines.extend(f"  {indent}    ! {w}" for w in page.warnings)
+        lines.extend(f"  {indent}    - {n}" for n in page.notes)
     if report.config_note:
         lines.append("")
         lines.append(f"Settings: {report.config_note}")
+    if report.notes:
+        lines.append("")
+        lines.append("Notes:")
+        lines.extend(f"    - {n}" for n in report.notes)
     if site_level:
         lines.append("")
         lines.append("Site:")
@@ -85,7 +103,9 @@ def main(argv: list[str] | None = None, prog: str = "sitegen import") -> int:
     except SystemExit as exc:  # argparse exits 2 on usage errors, 0 for --help
         return int(exc.code or 0)
     try:
-        report = import_cmsimde(args.path, args.dest, force=args.force)
+        report = import_cmsimde(
+            args.path, args.dest, force=args.force, base_url=args.base_url, youtube=args.youtube
+        )
     except CmsimdeImportError as exc:
         print(f"{exc.file}:{exc.line}: {exc.message}", file=sys.stderr)
         return 1

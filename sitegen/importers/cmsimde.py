@@ -35,13 +35,15 @@ from sitegen.importers.cmsimde_pages import (
     walk_pages,
 )
 from sitegen.importers.html_to_markdown import Converter, Hooks
-from sitegen.importers.htmltree import ParseIssue, parse_html
+from sitegen.importers.htmltree import Element, ParseIssue, parse_html
 from sitegen.importers.project_config import (
     CONFIG_NAME,
     ProjectConfig,
     detect_language,
     write_project_config,
 )
+from sitegen.importers.site_origin import missing_note, published_url
+from sitegen.importers.youtube import poster, video_id
 
 
 class CmsimdeImportError(Exception):
@@ -61,6 +63,7 @@ class PageReport:
     level: int  # 1-3 as in cmsimde; 0 for the front page made from text before H1
     line: int  # line of the heading in content.htm
     warnings: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)  # what was changed on purpose, and why
 
 
 @dataclass
@@ -75,6 +78,8 @@ class ImportReport:
     images_extracted: list[str] = field(default_factory=list)  # DEST-relative paths
     config_file: Path | None = None  # the sitegen.yml written (or found) beside DEST
     config_note: str = ""  # what happened to it, for the report
+    notes: list[str] = field(default_factory=list)  # site-wide changes made on purpose
+    youtube_posters: int = 0  # YouTube iframes turned into click-to-load posters
 
 
 @dataclass
@@ -118,7 +123,14 @@ def _read(file: Path) -> str:
 
 
 def _site_title(site: _Site) -> str | None:
-    """cmsimde keeps the site title in config/config as ``siteTitle:...`` (None without)."""
+    """The site title: ``config/sitetitle`` (the whole file, cmsimde from 2023 on), else
+    ``siteTitle:...`` in ``config/config`` (earlier); None without either."""
+    try:
+        own = (site.root / "config" / "sitetitle").read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        own = ""
+    if own.strip():
+        return " ".join(own.split())
     config = site.root / "config" / "config"
     try:
         lines = config.read_text(encoding="utf-8-sig").splitlines()
@@ -199,15 +211,35 @@ def _write(dest: Path, files: dict[str, bytes], copies: dict[str, Path]) -> None
 # -- the import ---------------------------------------------------------------------------------
 
 
-def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportReport:
+YOUTUBE = ("poster", "keep")  # what becomes of YouTube iframes (sitegen.importers.youtube)
+
+
+def import_cmsimde(
+    path: Path,
+    dest: Path,
+    *,
+    force: bool = False,
+    base_url: str | None = None,
+    youtube: str = "poster",
+) -> ImportReport:
     """Import the cmsimde site at ``path`` (a content.htm or a site folder) into ``dest``.
+
+    ``base_url`` is the published address for ``sitegen.yml`` (default: from the site's
+    GitHub remote when it has one; :mod:`sitegen.importers.site_origin`). ``youtube`` is
+    "poster" (click-to-load, nothing loaded from YouTube before Play) or "keep".
 
     Raises :class:`CmsimdeImportError` for problems that stop the import; everything that
     was imported imperfectly is listed, page by page, in the returned report instead.
     """
     path, dest = Path(path), Path(dest)
+    if youtube not in YOUTUBE:
+        raise CmsimdeImportError(path, 0, f"youtube must be one of {', '.join(YOUTUBE)}")
     site = _locate(path)
     _check_dest(dest, site, force)
+    published, origin_note = published_url(site.root, base_url)
+    if published is None and origin_note:
+        raise CmsimdeImportError("--base-url", 0, origin_note)
+    origin_note = origin_note or missing_note()
     source = _read(site.content_file)
     root, issues = parse_html(source)
     preamble, flat = split_pages(root, issues)
@@ -228,20 +260,24 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     issues.sort(key=lambda issue: issue.line)
     markup = heading_markup(root)
     tree = nest(flat)
-    assign_paths(tree, PurePosixPath("."))
-    pages = list(walk_pages(tree))
     site_title = _site_title(site)
     front = Page(site_title or "Home", 0, 1, preamble) if visible(preamble) else None
+    report = ImportReport(source=site.content_file, dest=dest)
     if front is not None:
         front.rel = PurePosixPath("index.md")
+        assign_paths(tree, PurePosixPath("."))
+        pages = list(walk_pages(tree))
+    else:
+        pages = _first_page_is_home(tree, report)
+    language = detect_language([n.text() if isinstance(n, Element) else "" for n in root.children])
 
     assets = Assets(site.asset_bases)
     links = LinkResolver(pages, assets)
-    report = ImportReport(source=site.content_file, dest=dest)
     per_page, site_warnings = _assign_issues(issues, pages, front)
     files: dict[str, bytes] = {}
     for page in ([front] if front else []) + pages:
-        body, notes = _convert(page, links, assets)
+        body, notes, done = _convert(page, links, assets, youtube, language)
+        report.youtube_posters += sum("YouTube video" in n for _, n in done)
         notes.extend(per_page.get(id(page), []))
         if page.line in markup:
             tags = ", ".join(f"<{t}>" for t in markup[page.line])
@@ -259,15 +295,17 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
         page_report = PageReport(page.title, page.rel.as_posix(), page.level, page.line)
         for line, message in notes:
             page_report.warnings.append(f"{message} (line {line})" if line else message)
+        page_report.notes = [
+            f"{m} (line {n})" if n else m for n, m in sorted(done, key=lambda note: note[0])
+        ]
         report.warnings.extend(f"{page.title}: {w}" for w in page_report.warnings)
         report.pages.append(page_report)
-        files[page.rel.as_posix()] = _page_text(
-            page.title, None if page is front else page.weight, body
-        )
+        home = page is front or page.rel.as_posix() == "index.md"
+        files[page.rel.as_posix()] = _page_text(page.title, None if home else page.weight, body)
     if (
         front is None and preamble
     ):  # only invisible things (scripts, comments) before the first heading
-        _, notes = _convert(Page("", 0, 1, preamble), links, assets)
+        _, notes, _ = _convert(Page("", 0, 1, preamble), links, assets, youtube, language)
         site_warnings.extend(
             f"before the first heading: {m}" + (f" (line {n})" if n else "") for n, m in notes
         )
@@ -278,8 +316,33 @@ def import_cmsimde(path: Path, dest: Path, *, force: bool = False) -> ImportRepo
     report.files_copied = sorted(assets.copies)
     report.images_extracted = sorted(assets.extracted)
     _write(dest, files, assets.copies)
-    _write_config(dest, site_title or pages[0].title, files, report)
+    _write_config(dest, site_title or pages[0].title, files, report, published)
+    if origin_note:
+        report.notes.append(origin_note)
+    if report.youtube_posters:
+        report.notes.append(
+            f"{report.youtube_posters} YouTube iframe(s) became click-to-load posters: nothing "
+            "is loaded from YouTube until a reader presses Play (youtube-nocookie.com); "
+            "--youtube keep keeps the iframes as they were"
+        )
     return report
+
+
+def _first_page_is_home(tree: list[Page], report: ImportReport) -> list[Page]:
+    """With no text before the first heading, the first page is the home page (cmsimde
+    opens the site on it): it becomes ``index.md``, and the pages under it become top-level
+    pages ahead of the rest, so the previous/next sequence stays cmsimde's. Returns every
+    page in document order."""
+    first, rest = tree[0], tree[1:]
+    top = first.children + rest
+    lifted = len(first.children)
+    first.children = []
+    # without sub-pages the others keep their numbers (02-, 03-...); with them, all renumber
+    assign_paths(top if lifted else tree, PurePosixPath("."))
+    first.rel = PurePosixPath("index.md")
+    moved = f"; its {lifted} sub-page(s) are top-level pages" if lifted else ""
+    report.notes.append(f"the first page, {first.title!r}, is the home page (index.md){moved}")
+    return [first, *walk_pages(top)]
 
 
 def _import_extras(root: Path, files: dict, copies: dict, report: ImportReport) -> None:
@@ -307,10 +370,13 @@ def _import_extras(root: Path, files: dict, copies: dict, report: ImportReport) 
         report.warnings.extend(f"{file}: {m}" for m in messages)
 
 
-def _write_config(dest: Path, title: str, files: dict[str, bytes], report: ImportReport) -> None:
-    """``sitegen.yml`` beside DEST with the old site's title and its content's language."""
+def _write_config(
+    dest: Path, title: str, files: dict[str, bytes], report: ImportReport, base_url: str | None
+) -> None:
+    """``sitegen.yml`` beside DEST with the old site's title, its content's language and,
+    when known, its published address."""
     texts = [data.decode("utf-8") for rel, data in sorted(files.items()) if rel.endswith(".md")]
-    config = ProjectConfig(title, detect_language(texts))
+    config = ProjectConfig(title, detect_language(texts), base_url=base_url)
     try:
         path, note, is_warning = write_project_config(dest, config, report.source.name)
     except OSError as exc:
@@ -322,25 +388,44 @@ def _write_config(dest: Path, title: str, files: dict[str, bytes], report: Impor
         report.warnings.append(f"{CONFIG_NAME}: {note}")
 
 
-def _convert(page: Page, links: LinkResolver, assets: Assets) -> tuple[str, list[tuple[int, str]]]:
-    """Markdown for one page, and its (line, message) notes; line 0 means page-wide."""
+def _convert(
+    page: Page, links: LinkResolver, assets: Assets, youtube: str, language: str
+) -> tuple[str, list[tuple[int, str]], list[tuple[int, str]]]:
+    """Markdown for one page, its (line, message) warnings (line 0: page-wide) and its
+    (line, message) notes of what was changed on purpose."""
     notes: list[tuple[int, str]] = []
     missing: list[str] = []
+    assets.notes = done = []
 
     def warn(message: str, line: int) -> None:
         notes.append((line, message))
+
+    def replace(el: Element) -> str | None:
+        if youtube != "poster" or el.tag != "iframe":
+            return None
+        a = el.attrs
+        html = poster(
+            a.get("src", ""), a.get("title", ""), a.get("width", ""), a.get("height", ""), language
+        )
+        if html is not None:
+            found = video_id(a.get("src", ""))
+            done.append(
+                (el.line, f"YouTube video {found[0] if found else ''} made a click-to-load poster")
+            )
+        return html
 
     hooks = Hooks(
         url=lambda url, el, attr: links.url(page, url, el, warn, missing),
         data_image=lambda uri, el: assets.data_image(page.rel, uri, el, warn),
         warn=warn,
+        replace=replace,
     )
     body = Converter(hooks).convert(page.nodes)
     if missing:
         notes.append(
             (0, "missing file(s), linked but not copied: " + ", ".join(dict.fromkeys(missing)))
         )
-    return body, notes
+    return body, notes, done
 
 
 def _assign_issues(issues: list[ParseIssue], pages: list[Page], front: Page | None):

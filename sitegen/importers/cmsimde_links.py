@@ -24,6 +24,7 @@ from typing import Protocol
 from urllib.parse import parse_qs, unquote, unquote_to_bytes, urlsplit
 
 from sitegen.importers.htmltree import Element
+from sitegen.importers.local_pages import PageFiles
 from sitegen.links import external_problem
 
 Warn = Callable[[str, int], None]
@@ -37,6 +38,8 @@ class PageLike(Protocol):
 
 
 _ASSET = re.compile(r"^(?:\.{1,2}/)*/?(images|downloads|static)/(.+)$")
+_FRAMES = ("iframe", "frame", "object", "embed")  # elements that show a page inside a page
+_PAGES = (".html", ".htm", ".xhtml")
 _GET_PAGE = re.compile(r"^/get_page/([^/]+)(?:/\d+)?/?$")
 _STATIC_PAGE = re.compile(r"^(?:\.{1,2}/)*/?(?:content/)?([^/]+)\.html?$")
 _MIME_EXT = {
@@ -71,6 +74,8 @@ class Assets:
         self.copies: dict[str, Path] = {}  # DEST-relative path -> source file
         self.extracted: dict[str, bytes] = {}  # DEST-relative path -> decoded image
         self.missing: set[str] = set()
+        self.notes: list[tuple[int, str]] = []  # (line, what was done) for the current page
+        self.pages = PageFiles(self.resolve, lambda path: _ASSET.match(path) is not None)
 
     def find(self, kind: str, sub: str) -> Path | None:
         """The file for ``/kind/sub``; falls back to a case-insensitive match (cmsimde ran on
@@ -114,6 +119,26 @@ class Assets:
             self.missing.add(f"{kind}/{sub}")
             missing.append(f"{kind}/{sub}")
         return relative_to_page(page_rel, f"{kind}/{sub}")
+
+    def resolve(self, site_path: str) -> Path | None:
+        """The file for a site path (``downloads/demo/x.js``), its copy planned under that
+        path as written; None when the site lacks it or the path is not an upload's."""
+        m = _ASSET.match(site_path)
+        if m is None:
+            return None
+        found = self.find(m.group(1), m.group(2))
+        if found is not None:
+            self.copies.setdefault(f"{m.group(1)}/{m.group(2)}", found)
+        return found
+
+    def follow_page(self, site_path: str, warn: Warn, line: int) -> None:
+        """Copy what an iframed local page loads (:mod:`sitegen.importers.local_pages`)."""
+        problems: list[str] = []
+        added = self.pages.follow(site_path, problems)
+        if added:
+            self.notes.append((line, f"iframed page {site_path}: {added} file(s) it loads copied"))
+        for problem in problems:
+            warn(f"iframed page {problem}", line)
 
     def data_image(self, page_rel: PurePosixPath, uri: str, el: Element, warn: Warn) -> str | None:
         """Decode a ``data:`` image into ``images/<sha256 prefix>.<ext>``; None if unreadable."""
@@ -196,6 +221,15 @@ class LinkResolver:
             return "https:" + raw
         if parts.scheme or parts.netloc:
             return raw
+        cut = min((i for i in (raw.find("?"), raw.find("#")) if i >= 0), default=len(raw))
+        if "\\" in raw[:cut]:
+            # browsers read a backslash in the path of an http(s) URL as "/" (WHATWG URL,
+            # "special" schemes): `/downloads/nxopen\block_ui\x.mp4` names
+            # /downloads/nxopen/block_ui/x.mp4, so the import reads it so too, and says so
+            fixed = raw[:cut].replace("\\", "/") + raw[cut:]
+            warn(f"link {raw} has backslashes: read as {fixed}, as browsers do", el.line)
+            raw = fixed
+            parts = urlsplit(raw)
         suffix = (f"?{parts.query}" if parts.query else "") + (
             f"#{parts.fragment}" if parts.fragment else ""
         )
@@ -210,6 +244,11 @@ class LinkResolver:
                     f"linked as {new}, where the copy would be",
                     el.line,
                 )
+            elif new is not None and el.tag in _FRAMES and path.lower().endswith(_PAGES):
+                target = posixpath.normpath(
+                    posixpath.join(posixpath.dirname(page.rel.as_posix()), new)
+                )
+                self.assets.follow_page(target, warn, el.line)
             return raw if new is None else new + suffix
         target, named = self._page_for(path, parts.query)
         frag = f"#{parts.fragment}" if parts.fragment else ""

@@ -12,8 +12,10 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from located.diagnostics import quoted
 from sitegen.importers import mdtext
 from sitegen.importers.htmltree import Element, Node, Text, to_html
+from sitegen.links import external_problem
 
 HEADINGS = {"h1", "h2", "h3", "h4", "h5", "h6"}
 #: Dropped everywhere except inside code, with a warning.
@@ -138,6 +140,8 @@ class Hooks:
     url: Callable[[str, Element, str], str]  # (url, element, attribute) -> url
     data_image: Callable[[str, Element], str | None]  # data: URI -> new src, or None
     warn: Callable[[str, int], None]  # (message, source line)
+    # an element's whole HTML instead of its own (a YouTube iframe's poster), or None
+    replace: Callable[[Element], str | None] = lambda el: None
 
 
 def _style(value: str) -> list[tuple[str, str]]:
@@ -191,7 +195,7 @@ class InlineConverter:
 
     def raw(self, el: Element) -> str:
         """``el`` serialised as HTML, its URLs rewritten like Markdown ones."""
-        html = to_html(el, self._rewrite_attr).strip()
+        html = to_html(el, self._rewrite_attr, self.hooks.replace).strip()
         if "<pre" not in html and "<textarea" not in html:
             html = re.sub(r"\n[ \t]*(?=\n)", "", html)  # a blank line would end the HTML block
         return html
@@ -288,6 +292,17 @@ class InlineConverter:
         if href.lower().startswith("javascript:"):
             self.hooks.warn(f"javascript: link not carried over ({href[:40]})", el.line)
             return prefix + inner
+        problem = external_problem(href)
+        if problem and problem.startswith("malformed"):
+            # a browser cannot follow it either (`http://[組長IP]:23020`, a placeholder): the
+            # text stays, the URL is kept in a comment beside it, and the report says so
+            self.hooks.warn(
+                f"link {quoted(href)}: {problem.split(';')[0]}; its text is kept, "
+                "not as a link (the URL is in a comment beside it)",
+                el.line,
+            )
+            kept = href.replace("--", "- -").replace(">", "&gt;")
+            return f"{prefix}{inner}<!-- link URL that does not parse: {kept} -->"
         url = self.hooks.url(href, el, "href")
         if self._in_table:
             url = url.replace("|", "%7C")

@@ -31,6 +31,8 @@ from sitegen.importers.html_inline import (
 from sitegen.importers.htmltree import Comment, Element, Node, Text
 
 _MD_BLOCKS = HEADINGS | {"p", "pre", "ul", "ol", "table", "blockquote"}
+#: What a <pre> of pasted text may show that code text cannot: kept by keeping the <pre>.
+_MEDIA = ("img", "iframe", "video", "audio", "object", "embed", "svg", "picture")
 
 __all__ = ["Converter", "Hooks"]
 
@@ -230,8 +232,13 @@ class Converter(InlineConverter):
         lang, known, brush = pre_language(el)
         if not known:
             self.hooks.warn(f"code language {lang!r} not recognised, kept as written", el.line)
-        if not brush and any("href" in a.attrs for a in el.find_all("a")):
-            return self.raw(el)  # preformatted text with links: Markdown code would lose them
+        if not brush and (
+            any("href" in a.attrs for a in el.find_all("a"))
+            or any(el.find_all(tag) for tag in _MEDIA)
+        ):
+            # preformatted text with links or pictures (pasted from a translator): Markdown
+            # code would lose them, so the <pre> is kept as HTML, its URLs rewritten
+            return self.raw(el)
         typed: list[str] = []
         code = code_text(el.children, literal=brush, typed=typed)
         if typed:

@@ -187,8 +187,9 @@ def parse_html(source: str) -> tuple[Element, list[ParseIssue]]:
 RAW_TEXT = frozenset({"script", "style"})
 
 
-def to_html(node: Node, rewrite=None) -> str:
-    """Serialise ``node``; ``rewrite(el, attr, value)`` may change URL attributes.
+def to_html(node: Node, rewrite=None, replace=None) -> str:
+    """Serialise ``node``; ``rewrite(el, attr, value)`` may change URL attributes, and
+    ``replace(el)`` may give the HTML of a whole element instead (None: serialise it).
 
     The ``markdown`` attribute is dropped: with ``md_in_html`` it would turn raw HTML back
     into Markdown and change what the page shows.
@@ -197,6 +198,10 @@ def to_html(node: Node, rewrite=None) -> str:
         return html.escape(node.data, quote=False)
     if isinstance(node, Comment):
         return f"<!--{node.data}-->"
+    if replace is not None:
+        instead = replace(node)
+        if instead is not None:
+            return instead
     attrs = []
     for name, value in node.attrs.items():
         if name == "markdown":
@@ -212,5 +217,5 @@ def to_html(node: Node, rewrite=None) -> str:
     if node.tag in RAW_TEXT:
         inner = "".join(c.data for c in node.children if isinstance(c, Text))
     else:
-        inner = "".join(to_html(c, rewrite) for c in node.children)
+        inner = "".join(to_html(c, rewrite, replace) for c in node.children)
     return f"{start}{inner}</{node.tag}>"

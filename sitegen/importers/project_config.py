@@ -48,6 +48,7 @@ class ProjectConfig:
     title: str
     language: str
     content_dir: str = "content"
+    base_url: str | None = None  # where the site was published, when known (site_origin)
 
     def text(self, source: str) -> str:
         lines = [
@@ -55,6 +56,8 @@ class ProjectConfig:
             f"title: {mdtext.yaml_string(self.title)}",
             f"language: {self.language}",
         ]
+        if self.base_url:
+            lines.append(f"base_url: {mdtext.yaml_string(self.base_url)}")
         if self.content_dir != "content":
             lines.append(f"content_dir: {mdtext.yaml_string(self.content_dir)}")
         return "\n".join(lines) + "\n"
@@ -70,6 +73,8 @@ def write_project_config(dest: Path, config: ProjectConfig, source: str) -> tupl
     path = dest.absolute().parent / CONFIG_NAME
     text = config.text(source)
     wanted = f"title {config.title!r}, language {config.language}"
+    if config.base_url:
+        wanted += f", base_url {config.base_url}"
     if path.exists():
         try:
             current = path.read_text(encoding="utf-8")
