@@ -29,7 +29,7 @@ def get_object(srv: ZmqServer, path: Any, options: Any = None) -> int:
     opts = options if isinstance(options, dict) else {}
     index = srv.handle_arg(opts.get("index", 0) or 0, func, 2)
     try:
-        h = paths.resolve(srv.tree(), text, index)
+        h = paths.resolve(srv.tree(), text, index=index)
     except paths.PathError as exc:
         srv.fail("path", str(exc), func, text)
     if h is None:
