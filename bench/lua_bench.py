@@ -81,7 +81,7 @@ def _timing(fn):
 
 def _instrument() -> None:
     from sims import proximity
-    from sims.lua import vision
+    from sims.simapi import vision
 
     proximity.ProximitySensors._cast = _timing(proximity.ProximitySensors._cast)  # type: ignore[method-assign]
     vision.read_vision_sensor = _timing(vision.read_vision_sensor)

@@ -121,8 +121,19 @@ class WorldObjects:
             raise ValueError(f"unknown primitive shape {primitive!r}")
         h = len(self._tree) + 1
         name = self._new_name(primitive.capitalize())
-        obj = Created(h, name, "shape", None, IDENTITY, persistent, tuple(size), primitive,
-                      0.0 if static else max(mass, 1e-6), respondable, color)  # fmt: skip
+        obj = Created(
+            h,
+            name,
+            "shape",
+            None,
+            IDENTITY,
+            persistent,
+            tuple(size),
+            primitive,
+            0.0 if static else max(mass, 1e-6),
+            respondable,
+            color,
+        )
         self._place(obj)
         return h
 
@@ -152,22 +163,184 @@ class WorldObjects:
     def created(self, handle: int) -> Created | None:
         return self._created.get(handle)
 
-    # -- removing ------------------------------------------------------------------------------
-    def remove_object(self, handle: int) -> None:
-        """Remove an object and what hangs on it. Created objects go; of the scene's objects,
-        non-dynamic ones riding a link and free bodies (with everything on them) can go; a link
-        of a chain cannot (ValueError)."""
+    # -- names ---------------------------------------------------------------------------------
+    def rename_object(self, handle: int, name: str) -> None:
+        """A new old-style name (sim.setObjectName); ValueError when taken or for a joint."""
         h = self.handle_of(handle)  # type: ignore[attr-defined]
-        sub = [h] + [e.handle for e in self._subtree(h)]
-        bodies = {self._roots_map().get(x) for x in sub} - {None}
+        old = self._names[h - 1]
+        if name == old:
+            return
+        if not name or name in self._handles:
+            raise ValueError(f"an object named {name!r} exists already")
+        if old in self._joints:
+            raise ValueError(f"joint {old!r} keeps its name in this emulation")
+        for table in (self._objects, self._sensors):
+            if old in table:
+                table[name] = dataclasses.replace(table.pop(old), name=name)
+        self._tree[h - 1] = dataclasses.replace(self._tree[h - 1], name=name)
+        self._names[h - 1] = name
+        del self._handles[old]
+        self._handles[name] = h
+        if h in self._created:
+            self._created[h].name = name
+        self._changed()
+
+    def set_alias(self, handle: int, alias: str) -> None:
+        h = self.handle_of(handle)  # type: ignore[attr-defined]
+        self._tree[h - 1] = dataclasses.replace(self._tree[h - 1], alias=alias)
+        self._changed()
+
+    # -- copying and scaling ---------------------------------------------------------------------
+    def copy_objects(self, handles: list[int], *, persistent: bool = False) -> list[int]:
+        """Copies of objects with what hangs on them (CoppeliaSim's copy-paste): a scene
+        object's subtree is built again by the scene builder, so a copy has the original's
+        bodies, masses, joints and motors; names get CoppeliaSim's ``#n`` suffixes."""
+        out = []
+        for h in handles:
+            h = self.handle_of(h)  # type: ignore[attr-defined]
+            if h in self._created:
+                out.append(self._copy_created(self._created[h], persistent))
+            else:
+                out.append(self._copy_scene(h, persistent))
+        return out
+
+    def _copy_name(self, name: str) -> str:
+        base = name.rpartition("#")[0] if name_has_suffix(name) else name
+        i = 0
+        while f"{base}#{i}" in self._handles:
+            i += 1
+        return f"{base}#{i}"
+
+    def _copy_created(self, obj: Created, persistent: bool) -> int:
+        h = len(self._tree) + 1
+        twin = dataclasses.replace(
+            obj,
+            handle=h,
+            name=self._copy_name(obj.name),
+            persistent=persistent,
+            body=-1,
+            pose=self.object_pose(obj.handle),  # type: ignore[attr-defined]
+            extra=dict(obj.extra),
+        )
+        self._place(twin)
+        return h
+
+    def _copy_scene(self, handle: int, persistent: bool) -> int:
+        from sims.scene.bodies import create_visuals
+        from sims.scene.build import build
+        from sims.scene.model import Pose, Scene
+
+        source = getattr(self, "source", None)
+        if not isinstance(source, Scene):
+            raise ValueError("objects of a bundled scene cannot be copied")
+        by_name = {o.name: o for o in source.objects}
+        sub = [handle] + [e.handle for e in self._subtree(handle)]
+        top = self._names[handle - 1]
+        if top not in by_name:
+            raise ValueError(f"object {top!r} cannot be copied")
+        renamed: dict[str, str] = {}
+        objs = []
         for x in sub:
+            name = self._names[x - 1]
+            o = by_name.get(name)
+            if o is None:
+                continue
+            renamed[name] = self._copy_name(name) if name not in renamed else renamed[name]
+            while (
+                renamed[name] in renamed.values()
+                and list(renamed.values()).count(renamed[name]) > 1
+            ):
+                renamed[name] += "0"
+            if x == handle:
+                pos, quat = self.object_pose(x)  # type: ignore[attr-defined]
+                o = dataclasses.replace(o, parent=None, pose=Pose(tuple(pos), tuple(quat)))
+            objs.append(dataclasses.replace(o, name=renamed[name]))
+        cid = self.client_id  # type: ignore[attr-defined]
+        model = build(
+            Scene(tuple(objs), source=source.source, time_step=source.time_step), cid, floor=False
+        )
+        first = len(self._tree) + 1
+        index = {n.name: first + i for i, n in enumerate(model.tree)}
+        for i, node in enumerate(model.tree):
+            h = first + i
+            parent = index.get(node.parent or "")
+            entry = TreeEntry(h, node.name, node.alias, parent, node.kind)
+            self._tree.append(entry)
+            self._names.append(node.name)
+            self._handles[node.name] = h
+            self._created[h] = Created(
+                h, node.name, node.kind, parent, IDENTITY, persistent, extra={"copy": True}
+            )
+        for ref in model.objects:
+            self._objects[ref.name] = ref
+        for sensor in model.prox:
+            self._sensors[sensor.name] = sensor
+        for j in model.joints:
+            self._joints[j.name] = j
+            self.model.joints.append(j)  # type: ignore[attr-defined]
+            self._init_motor(j)  # type: ignore[attr-defined]
+        data = self.model.data  # type: ignore[attr-defined]
+        for key, value in model.data.items():
+            if key != "looks":
+                data.setdefault(key, value)
+        if "visuals" in data:
+            data["visuals"].extend(create_visuals(cid, model.data.get("looks", [])))
+        else:
+            data.setdefault("looks", []).extend(model.data.get("looks", []))
+        self._changed()
+        return first
+
+    def scale_object(self, handle: int, factors: tuple[float, float, float]) -> None:
+        """sim.scaleObject: a created primitive shape gets its new size (its body is made
+        again at its pose); a dummy its size. ValueError for objects loaded with the scene."""
+        h = self.handle_of(handle)  # type: ignore[attr-defined]
+        obj = self._created.get(h)
+        if obj is None or obj.extra.get("copy"):
+            raise ValueError("only objects a script created can be scaled in this emulation")
+        obj.size = tuple(v * f for v, f in zip(obj.size, factors + (1.0,) * 3, strict=False))
+        if obj.kind == "shape" and obj.body >= 0:
+            obj.pose = self.object_pose(h)  # type: ignore[attr-defined]
+            p.removeBody(obj.body, physicsClientId=self.client_id)  # type: ignore[attr-defined]
+            obj.body = _primitive_body(self.client_id, obj)  # type: ignore[attr-defined]
+            self._objects[obj.name] = ObjectRef(obj.name, obj.body, -1)
+        self._changed()
+
+    # -- removing ------------------------------------------------------------------------------
+    def remove_object(self, handle: int, *, model: bool = False) -> None:
+        """Remove an object (``model``: with everything below it, sim.removeModel). Without
+        ``model`` its children move up to its parent, keeping their pose (CoppeliaSim's
+        sim.removeObject). A body's root takes its body along; what rode on that body stays
+        where it is, fixed in the world. ValueError for a link or joint of a chain, or a root
+        that carries one."""
+        h = self.handle_of(handle)  # type: ignore[attr-defined]
+        sub = [h] + [e.handle for e in self._subtree(h)] if model else [h]
+        roots = self._roots_map()
+        bodies = {roots[x] for x in sub if x in roots}
+        for x in sub:
+            name = self._names[x - 1]
             ref = self._carried(x)
-            if ref is not None and ref.body >= 0 and ref.link >= 0:
-                owner = self._roots_map()
-                if not any(owner.get(y) == ref.body for y in sub):
+            in_chain = name in self._joints or (ref is not None and ref.body >= 0 and ref.link >= 0)
+            body = self._joints[name].body if name in self._joints else (ref.body if ref else -1)
+            if in_chain and not (body in bodies and model):
+                raise ValueError(f"object {name!r} is part of a chain: it cannot be removed")
+        up = self.parent_of_object(h)
+        for e in self.object_tree().entries:
+            if e.handle in sub:
+                continue
+            ref = self._carried(e.handle)
+            on_removed = (ref is not None and ref.body in bodies) or (
+                e.name in self._joints and self._joints[e.name].body in bodies
+            )
+            if on_removed:
+                if e.name in self._joints or (ref is not None and ref.link >= 0):
                     raise ValueError(
-                        f"object {self._names[x - 1]!r} is a link of a chain: it cannot be removed"
+                        f"object {self._names[h - 1]!r} carries the chain of {e.name!r}: "
+                        "it cannot be removed"
                     )
+                pose = self.object_pose(e.handle)  # type: ignore[attr-defined]
+                self._set_carried(e.handle, -1, -1, pose)
+            if e.parent in sub:
+                self._tree[e.handle - 1] = dataclasses.replace(self._tree[e.handle - 1], parent=up)
         for body in bodies:
             p.removeBody(body, physicsClientId=self.client_id)  # type: ignore[attr-defined]
         for x in reversed(sub):
@@ -379,23 +552,27 @@ def _primitive_body(client: int, obj: Created) -> int:
     if kind in ("cuboid", "plane"):
         half = [sx / 2, sy / 2, max(sz, 0.001) / 2]
         col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=client)
-        vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=[*obj.color, 1],
-                                  physicsClientId=client)  # fmt: skip
+        vis = p.createVisualShape(
+            p.GEOM_BOX, halfExtents=half, rgbaColor=[*obj.color, 1], physicsClientId=client
+        )
     elif kind == "sphere":
         r = sx / 2
         col = p.createCollisionShape(p.GEOM_SPHERE, radius=r, physicsClientId=client)
-        vis = p.createVisualShape(p.GEOM_SPHERE, radius=r, rgbaColor=[*obj.color, 1],
-                                  physicsClientId=client)  # fmt: skip
+        vis = p.createVisualShape(
+            p.GEOM_SPHERE, radius=r, rgbaColor=[*obj.color, 1], physicsClientId=client
+        )
     elif kind == "capsule":
         r, h = sx / 2, max(sz - sx, 0.001)
         col = p.createCollisionShape(p.GEOM_CAPSULE, radius=r, height=h, physicsClientId=client)
-        vis = p.createVisualShape(p.GEOM_CAPSULE, radius=r, length=h, rgbaColor=[*obj.color, 1],
-                                  physicsClientId=client)  # fmt: skip
+        vis = p.createVisualShape(
+            p.GEOM_CAPSULE, radius=r, length=h, rgbaColor=[*obj.color, 1], physicsClientId=client
+        )
     else:  # cylinder, disc, cone (a cone's hull is taken as its cylinder's)
         r, h = sx / 2, max(sz, 0.001)
         col = p.createCollisionShape(p.GEOM_CYLINDER, radius=r, height=h, physicsClientId=client)
-        vis = p.createVisualShape(p.GEOM_CYLINDER, radius=r, length=h, rgbaColor=[*obj.color, 1],
-                                  physicsClientId=client)  # fmt: skip
+        vis = p.createVisualShape(
+            p.GEOM_CYLINDER, radius=r, length=h, rgbaColor=[*obj.color, 1], physicsClientId=client
+        )
     fixed = obj.mass <= 0
     uid = p.createMultiBody(
         baseMass=0.0 if fixed else obj.mass,
@@ -408,6 +585,11 @@ def _primitive_body(client: int, obj: Created) -> int:
     group, mask = collision_group(obj.respondable, fixed)
     p.setCollisionFilterGroupMask(uid, -1, group, mask, physicsClientId=client)
     return uid
+
+
+def name_has_suffix(name: str) -> bool:
+    base, sep, num = name.rpartition("#")
+    return bool(sep) and num.isdigit()
 
 
 def rotation_angle(q: tuple[float, float, float, float]) -> float:

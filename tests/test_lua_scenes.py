@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from shared_data import SHARED, shared
 
-from sims.lua.usage import markdown_table, scan, scene_files
+from tools.lua_usage import markdown_table, scan, scene_files
 
 REPO = Path(__file__).resolve().parents[1]
 SCENES = SHARED / "data" / "scenes"

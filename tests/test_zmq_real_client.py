@@ -53,7 +53,7 @@ def exercise(client) -> list:
         lambda: sim.getObject("/nope"),
         lambda: sim.getJointPosition(body),
         lambda: sim.getObjectPosition(4242, -1),
-        lambda: sim.createDummy(0.1),
+        lambda: sim.setShapeColor(body, None, 0, [1, 0, 0]),
         lambda: sim.setJointTargetVelocity(left, "fast"),
     ):
         try:

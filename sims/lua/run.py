@@ -77,8 +77,12 @@ def main(argv: list[str] | None = None) -> int:
     sub_usage.add_argument("folder", nargs="?", default="../shared/data/scenes")
     args = parser.parse_args(argv)
     if args.command == "functions":
-        from .usage import markdown_table, scan
-
+        try:  # a dev tool of the repository (tools/), not part of the installed package
+            from tools.lua_usage import markdown_table, scan
+        except ImportError:
+            print("error: 'functions' runs from a checkout of the repository (tools/)",
+                  file=sys.stderr)  # fmt: skip
+            return 2
         print(markdown_table(scan(Path(args.folder))))
         return 0
     from sims.scene.resolve import SceneFileError
