@@ -153,15 +153,20 @@ def _body_link(c: Caller, hh: int) -> tuple[int, int]:
     return ref.body, ref.link
 
 
-def add_force(c: Caller, h: Any, position: Any, force: Any) -> int:
-    """A force (world axes) at ``position`` (the shape's frame), applied during the whole next
-    simulation pass, as CoppeliaSim clears added forces after handling the dynamics."""
+def add_force(c: Caller, h: Any, position: Any, force: Any) -> int | None:
+    """A force given in the shape's frame, acting at ``position`` (the shape's frame): the force
+    at the centre of mass and the torque ``position x force``, both turned into world axes, as
+    CoppeliaSim's simAddForce does; applied during the whole next simulation pass (CoppeliaSim
+    clears added forces after handling the dynamics)."""
     hh = c.handle(h)
     c.entry(hh)
     body, link = _body_link(c, hh)
-    frame = c.world.object_pose(hh)
-    at = p.multiplyTransforms(frame[0], frame[1], vector(position, 3, 2), (0, 0, 0, 1))[0]
-    _add(c, body, link, tuple(vector(force, 3, 3)), tuple(at), None)
+    r, f = vector(position, 3, 2), vector(force, 3, 3)
+    t = (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
+    q = c.world.object_pose(hh)[1]
+    fw = p.multiplyTransforms((0, 0, 0), q, f, (0, 0, 0, 1))[0]
+    tw = p.multiplyTransforms((0, 0, 0), q, t, (0, 0, 0, 1))[0]
+    _add(c, body, link, tuple(fw), None, tuple(tw))
     return c.done
 
 
