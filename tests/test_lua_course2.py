@@ -92,8 +92,8 @@ def test_cart_pole_stays_upright_and_drives_the_cart_where_its_script_says():
     assert errors == [] and missing == []
     # upright from 1 s on (the controller catches the initial tilt): within 10 deg of the
     # upright equilibrium throughout, within 2 deg from 1.5 s on except for the 1.5 s after
-    # the set point jumps (the step in the reference tilts it by ~6 deg); CoppeliaSim's Bullet build and
-    # its mass properties differ slightly, so the bounds leave room
+    # the set point jumps (the step in the reference tilts it by ~6 deg); CoppeliaSim's
+    # Bullet build and its mass properties differ slightly, so the bounds leave room
     assert all(abs(th) < 10 * DEG for t, (_x, th) in samples if t > 1.0)
     xs = [(t, x) for t, (x, _th) in samples]
     assert xs[0][1] == pytest.approx(-0.7, abs=0.01)  # the cart starts at the slider's end
