@@ -226,8 +226,6 @@ class WorldObjects:
         return h
 
     def _copy_scene(self, handle: int, persistent: bool) -> int:
-        from sims.scene.bodies import create_visuals
-        from sims.scene.build import build
         from sims.scene.model import Pose, Scene
 
         source = getattr(self, "source", None)
@@ -255,6 +253,29 @@ class WorldObjects:
                 pos, quat = self.object_pose(x)  # type: ignore[attr-defined]
                 o = dataclasses.replace(o, parent=None, pose=Pose(tuple(pos), tuple(quat)))
             objs.append(dataclasses.replace(o, name=renamed[name]))
+        return self._merge_scene(objs, source, persistent)
+
+    def load_model(self, path: str, *, persistent: bool = False) -> int:
+        """A model file (``.ttm``, or a scene file) added to the scene, its objects renamed
+        where their names are taken; the handle of its base (the first top object)."""
+        from sims.scene.load import load_scene
+
+        model = load_scene(path)
+        objs = []
+        for o in model.objects:
+            name = o.name if o.name not in self._handles else self._copy_name(o.name)
+            objs.append(dataclasses.replace(o, name=name))
+        if not objs:
+            raise ValueError(f"{path}: the model has no objects")
+        return self._merge_scene(objs, model, persistent)
+
+    def _merge_scene(self, objs: list[Any], source: Any, persistent: bool) -> int:
+        """Build ``objs`` (scene objects with unique names) into this World's client with the
+        scene builder and add them to the tables; the first new handle."""
+        from sims.scene.bodies import create_visuals
+        from sims.scene.build import build
+        from sims.scene.model import Scene
+
         cid = self.client_id  # type: ignore[attr-defined]
         model = build(
             Scene(tuple(objs), source=source.source, time_step=source.time_step), cid, floor=False

@@ -150,6 +150,7 @@ class ScriptHost:
     def _error(self, run: ScriptRun, exc: Exception) -> None:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         message = f"{self.scene}: {first}"
+        run.removed = True  # CoppeliaSim disables a script that raised; the rest runs on
         if message not in self.errors:
             self.errors.append(message)
             self.status(f"Lua runtime error: {first}")
@@ -255,7 +256,64 @@ class ScriptHost:
         for run in self.scripts:
             if run.kind == "child":
                 self._init(run)
+        self._joint_callbacks()
         self.actuation()
+
+    def _joint_callbacks(self) -> None:
+        """Joints whose script defines ``sysCall_jointCallback`` are controlled by it: called
+        at every physics step with the joint's state, its answer (velocity, force) drives the
+        joint's motor, as CoppeliaSim's custom joint control does."""
+        runs = [
+            r
+            for r in self.scripts
+            if r.new_style and r.state is not None and r.object > 0
+            and self.world.is_joint(r.object) and r.state.get("sysCall_jointCallback") is not None
+        ]  # fmt: skip
+        if not runs:
+            return
+        passes = {r.handle: 0 for r in runs}
+
+        def control(world: Any) -> None:
+            for run in runs:
+                if run.removed or run.state is None:
+                    continue
+                self._joint_callback(run, passes[run.handle])
+                passes[run.handle] += 1
+
+        self._remove_joint_hook = self.world.add_step_hook(control)
+
+    def _joint_callback(self, run: ScriptRun, count: int) -> None:
+        w = self.world
+        h = run.object
+        j = w._joints[w.name_of(h)]
+        command = w._commands.get(j.name)
+        pos = w.joint_position(h)
+        target = command[1] if command and command[0] == "position" else pos
+        low = j.lower if j.lower is not None else -3.141592653589793
+        high = j.upper if j.upper is not None else 3.141592653589793
+        data = {
+            "first": count == 0, "passCnt": count, "totalPasses": 1, "handle": h,
+            "revolute": j.kind == "revolute", "cyclic": j.lower is None,
+            "lowLimit": low, "highLimit": high, "currentPos": pos,
+            "currentVel": w.joint_velocity(h), "targetPos": target, "errorValue": target - pos,
+            "effort": 0.0, "dynStepSize": w.timestep,
+            "velUpperLimit": j.max_velocity if j.max_velocity else 1e9, "maxForce": j.max_force,
+        }  # fmt: skip
+        try:
+            out = run.state.call(run.state.get("sysCall_jointCallback"), data)
+        except LuaScriptError as exc:
+            self._error(run, exc)
+            return
+        from .runtime import to_py
+
+        result = to_py(out[0]) if out else None
+        if isinstance(result, dict):
+            force = result.get("force")
+            if isinstance(force, (int, float)) and abs(force) != j.max_force:
+                w.set_joint_max_force(h, abs(float(force)))
+            velocity = result.get("velocity")
+            if isinstance(velocity, (int, float)):
+                w.set_joint_target_velocity(h, float(velocity))
 
     def actuation(self) -> None:
         for run in self.scripts:
@@ -264,6 +322,10 @@ class ScriptHost:
         for run in self._ordered():
             if not run.threaded:
                 self._dispatch(run, "actuation")
+        # what CoppeliaSim's default main script does next: IK groups, paths... (the World's)
+        main = getattr(self.world, "main_script_actuation", None)
+        if main is not None:
+            main(self.pass_dt)
 
     def sensing(self) -> None:
         for run in self._ordered():
@@ -307,6 +369,10 @@ class ScriptHost:
             run.executions = 0
         self.started = False
         self.stop_requested = False
+        remove = getattr(self, "_remove_joint_hook", None)
+        if remove is not None:
+            remove()
+            self._remove_joint_hook = None
 
     def close(self) -> None:
         self.stop()

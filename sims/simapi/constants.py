@@ -148,7 +148,7 @@ ADDED: dict[str, int] = {
     "syscb_jointcallback": 17,
     "syscb_msg": 33,
     "syscb_threadmain": 26,
-    "verbosity_errors": 41,
+    "verbosity_errors": 0x100,
     # 32-bit handle flags (CoppeliaSim 4.x, sim_handleflag_*)
     "handleflag_reljointbaseframe": 0x00400000,
     "handleflag_axis": 0x00400000,
@@ -187,7 +187,6 @@ ADDED: dict[str, int] = {
     "rml_disable_extremum_motion_states_calc": 8,
     "rml_keep_current_vel_if_fallback_strategy": 16,
     "verbosity_none": 0x000,
-    "verbosity_errors": 0x100,
     "verbosity_warnings": 0x200,
     "verbosity_loadinfos": 0x300,
     "verbosity_scripterrors": 0x400,

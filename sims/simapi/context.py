@@ -139,6 +139,9 @@ class Caller:
         is not a coroutine: a ZeroMQ client)."""
         raise SimError("this caller cannot wait for the simulation")
 
+    def replace_scene(self, path: str) -> None:
+        raise SimError("this caller cannot load scenes")
+
     def key_presses(self) -> list[tuple[float, int]]:
         """(simulation time, key code) of the run's scripted key presses (``--keys``)."""
         return []

@@ -391,9 +391,9 @@ def collection_objects(c: Caller, items: list[tuple[int, int, int]]) -> list[int
     for what, h, o in items:
         if what == HANDLE_ALL:
             got = [e.handle for e in tree.entries]
-        elif what == -3 or what == -5:  # handle_tree (or chain)
+        elif what in (-6, -7):  # sim.handle_tree, sim.handle_chain
             got = [h] + [e.handle for e in tree.descendants(h)]
-            if what == -5:
+            if what == -7:
                 got, up = [], h
                 while up is not None:
                     got.append(up)
@@ -452,4 +452,42 @@ def set_configuration_tree(c: Caller, data: Any) -> int:
                 cmd.set_frame(c.world, h, -1, vals[i + 1 : i + 4], vals[i + 4 : i + 8])
             except cmd.CommandError:
                 pass
+    return c.done
+
+
+def _scene_file(c: Caller, name: str, kinds: tuple[str, ...]) -> str:
+    """A model or scene file a script names: relative to the scene's folder, and only inside
+    it (scripts never reach other files: the same rule as ``require``)."""
+    from pathlib import Path
+
+    source = str(getattr(getattr(c.world, "source", None), "source", "") or "")
+    if not source:
+        raise SimError("the scene has no folder to load files from")
+    folder = Path(source).resolve().parent
+    path = (folder / name).resolve()
+    try:
+        path.relative_to(folder)
+    except ValueError:
+        raise SimError(f"{name!r}: only files beside the scene file can be loaded") from None
+    if not path.is_file() or not path.name.endswith(kinds):
+        raise SimError(f"{name!r}: no such model or scene file beside the scene")
+    return str(path)
+
+
+def load_model(c: Caller, name: Any, *rest: Any) -> int:
+    """A model file beside the scene, added to it (its scripts do not run: see docs/lua.md)."""
+    path = _scene_file(c, text(name), (".ttm", ".ttt", ".simscene.xml", ".simmodel.xml"))
+    try:
+        return int(c.world.load_model(path, persistent=c.persistent))
+    except (ValueError, OSError) as exc:
+        raise SimError(str(exc)) from None
+
+
+def load_scene(c: Caller, name: Any, *rest: Any) -> int | None:
+    """Replace the scene (the simulation must be stopped), as sim.loadScene: only scene files
+    beside the current one (sim.stringparam_scenedefaultdir is that folder)."""
+    path = _scene_file(c, text(name), (".ttt", ".simscene.xml"))
+    if c.state_code() != 0:
+        raise SimError("a scene can only be loaded while the simulation is stopped")
+    c.replace_scene(path)
     return c.done

@@ -16,7 +16,7 @@ import inspect
 from collections.abc import Callable
 from typing import Any
 
-from . import data, joints, motion, objects, poses, sensors, simulation, ui
+from . import data, joints, mechanisms, motion, objects, poses, sensors, simulation, ui
 
 Fn = Callable[..., Any]
 
@@ -62,6 +62,8 @@ FUNCTIONS: dict[str, Fn] = {
     "sim.resetDynamicObject": objects.reset_dynamic_object,
     "sim.getConfigurationTree": objects.get_configuration_tree,
     "sim.setConfigurationTree": objects.set_configuration_tree,
+    "sim.loadModel": objects.load_model,
+    "sim.loadScene": objects.load_scene,
     "sim.createCollection": objects.create_collection,
     "sim.addItemToCollection": objects.add_item_to_collection,
     "sim.getCollectionObjects": objects.get_collection_objects,
@@ -222,6 +224,19 @@ FUNCTIONS: dict[str, Fn] = {
     "sim.moveToPose": motion.move_to_pose,
     "sim.rmlMoveToJointPositions": motion.rml_move_to_joint_positions,
     "sim.rmlMoveToPosition": motion.rml_move_to_position,
+    # IK groups and paths (the World's kinematics and path objects)
+    "sim.getIkGroupHandle": mechanisms.get_ik_group_handle,
+    "sim.handleIkGroup": mechanisms.handle_ik_group,
+    "sim.getConfigForTipPose": mechanisms.get_config_for_tip_pose,
+    "sim.generateIkPath": mechanisms.generate_ik_path,
+    "sim.getPathPosition": mechanisms.get_path_position,
+    "sim.setPathPosition": mechanisms.set_path_position,
+    "sim.getPathLength": mechanisms.get_path_length,
+    "sim.setPathTargetNominalVelocity": mechanisms.set_path_target_nominal_velocity,
+    "sim.getPositionOnPath": mechanisms.get_position_on_path,
+    "sim.getOrientationOnPath": mechanisms.get_orientation_on_path,
+    "sim.getClosestPositionOnPath": mechanisms.get_path_distance,
+    "sim.followPath": mechanisms.follow_path,
     # user interfaces, dialogs, drawing objects
     "sim.getUIHandle": ui.get_ui_handle,
     "sim.getUIProperty": ui.get_ui_property,

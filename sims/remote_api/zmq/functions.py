@@ -86,6 +86,14 @@ class ZmqCaller(Caller):
     def system_time(self) -> float:
         return float(self.srv.session.clock.now())
 
+    def replace_scene(self, path: str) -> None:
+        """sim.loadScene: the session's scene becomes ``path`` (loaded at once)."""
+        sim = self.srv.simulator
+        sim.close()
+        sim.scene = path
+        sim.load()
+        self.srv._tree_cache = None
+
     def status(self, message: str) -> None:
         self.srv.simulator.statusbar.append(message)
         self.srv.session.status(message)
