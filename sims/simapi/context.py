@@ -67,11 +67,10 @@ def store(world: Any) -> Store:
     s = getattr(world, "_sim_store", None)
     if s is None:
         s = Store()
-        custom = getattr(getattr(world, "source", None), "custom_data", None) or {}
-        for (name, tag), data in dict(custom).items():
-            h = world.handle(name) if name else -12
+        for block in getattr(getattr(world, "source", None), "custom_data", None) or ():
+            h = world.handle(block.owner) if block.owner else -12  # sim.handle_scene
             if h is not None:
-                s.custom[(h, tag)] = bytes(data)
+                s.custom[(h, block.tag)] = bytes.fromhex(block.hex)
         world._sim_store = s
     return s
 
