@@ -276,6 +276,9 @@ class WorldObjects:
         from sims.scene.build import build
         from sims.scene.model import Scene
 
+        more = getattr(self, "_dynamic_more", set())
+        more |= {o.name for o in objs if o.shape is not None and not o.shape.dynamics.static}
+        self._dynamic_more = more
         cid = self.client_id  # type: ignore[attr-defined]
         model = build(
             Scene(tuple(objs), source=source.source, time_step=source.time_step), cid, floor=False
@@ -340,7 +343,7 @@ class WorldObjects:
         for x in sub:
             name = self._names[x - 1]
             ref = self._carried(x)
-            in_chain = name in self._joints or (ref is not None and ref.body >= 0 and ref.link >= 0)
+            in_chain = name in self._joints or self._is_link(x)
             body = self._joints[name].body if name in self._joints else (ref.body if ref else -1)
             if in_chain and not (body in bodies and model):
                 raise ValueError(f"object {name!r} is part of a chain: it cannot be removed")
@@ -353,7 +356,7 @@ class WorldObjects:
                 e.name in self._joints and self._joints[e.name].body in bodies
             )
             if on_removed:
-                if e.name in self._joints or (ref is not None and ref.link >= 0):
+                if e.name in self._joints or self._is_link(e.handle):
                     raise ValueError(
                         f"object {self._names[h - 1]!r} carries the chain of {e.name!r}: "
                         "it cannot be removed"
@@ -519,9 +522,27 @@ class WorldObjects:
         return body, link, self._link_pose(body, link)  # type: ignore[attr-defined]
 
     def _is_link(self, handle: int) -> bool:
-        """A dynamic link of a chain (carried by a joint's link, not a body's base)."""
+        """A dynamic shape that is a link of a chain (what rides on a link is not)."""
         ref = self._carried(handle)
-        return ref is not None and ref.body >= 0 and ref.link >= 0
+        if ref is None or ref.body < 0 or ref.link < 0:
+            return False
+        name = self._names[handle - 1]
+        from sims.scene.model import Scene
+
+        if not isinstance(getattr(self, "source", None), Scene):  # a bundled scene's links
+            return self._tree[handle - 1].kind == "shape"
+        return name in self._dynamic_shapes() or name in getattr(self, "_dynamic_more", ())
+
+    def _dynamic_shapes(self) -> frozenset[str]:
+        cached = getattr(self, "_dynamic_cache", None)
+        if cached is None:
+            cached = frozenset(
+                o.name
+                for o in getattr(getattr(self, "source", None), "objects", ()) or ()
+                if getattr(o, "shape", None) is not None and not o.shape.dynamics.static
+            )
+            self._dynamic_cache = cached
+        return cached
 
     def _roots_map(self) -> dict[int, int]:
         """Object handle -> pybullet body, for each body's root object: the shallowest object on
