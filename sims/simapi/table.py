@@ -303,6 +303,11 @@ OLD_NAMES = {
     "simRMLRemove": "sim.rmlRemove",
 }
 
+# V-REP 3.x's custom UI plug-in: simExtCustomUI_create... are simUI.create...
+OLD_NAMES.update(
+    {"simExtCustomUI_" + n.partition(".")[2]: n for n in FUNCTIONS if n.startswith("simUI.")}
+)
+
 #: Blocking functions (generators): computed from the table, not declared twice.
 BLOCKING = frozenset(n for n, f in FUNCTIONS.items() if inspect.isgeneratorfunction(f))
 
