@@ -51,8 +51,8 @@ MODES = (GOAL_MODE, "lazy")
 
 
 def default_scenes() -> list[Path]:
-    from sims.lua.usage import scene_files
     from sims.scene.resolve import open_scene
+    from tools.lua_usage import scene_files
 
     out = [REPO / "data" / "scenes" / "lua_arm.simscene.xml"]
     shared = REPO.parent / "shared" / "data" / "scenes"
