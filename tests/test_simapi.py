@@ -250,3 +250,38 @@ def test_zmq_move_to_config_steps_the_simulation_for_its_client(tmp_path):
     duration = Profile([0.0], [0.0], [0.0], [1.0], [2.0], [4.0], [0.5], [0.0]).duration
     assert got["end"] == pytest.approx(0.5, abs=1e-9)
     assert got["t"] == pytest.approx(duration, abs=0.051)  # one 50 ms step per profile step
+
+
+def test_tubes_connect_two_scripts_and_uis_keep_their_values_headless():
+    host = _host(
+        Script(
+            "child",
+            "function sysCall_init()\n"
+            "  t = sim.tubeOpen(0, 'chat', 4)\n"
+            '  ui = simUI.create(\'<ui><hslider id="3" minimum="0" maximum="9" value="4"/>'
+            '<edit id="5" value="hi"/></ui>\')\n'
+            "  simUI.setEditValue(ui, 5, 'typed')\n"
+            "end\n"
+            "function sysCall_actuation() sim.tubeWrite(t, 'ping') end\n"
+            "function sysCall_cleanup() end\n"
+            "function sysCall_sensing()\n"
+            "  sim.setStringSignal('ui', simUI.getSliderValue(ui, 3) .. ',' .. "
+            "simUI.getEditValue(ui, 5))\n"
+            "end\n",
+            4,
+        ),
+        Script(
+            "child",
+            "function sysCall_init() t = sim.tubeOpen(0, 'chat', 4) got = 0 end\n"
+            "function sysCall_sensing()\n"
+            "  local m = sim.tubeRead(t)\n"
+            "  while m do got = got + 1 m = sim.tubeRead(t) end\n"
+            "  sim.setIntegerSignal('got', got)\n"
+            "end\n",
+            6,
+        ),
+        seconds=0.5,
+    )
+    assert host.errors == []
+    assert host.signals["int"]["got"] >= 9  # one message a pass crossed the tube
+    assert _signals(host)["ui"] == "4,typed"

@@ -111,6 +111,12 @@ collectgarbage = function(opt) if opt == "count" then return 0 end return 0 end
 -- budget: instructions run without returning or yielding, in virtual steps' worth ----------
 local HOOK_EVERY = 1000
 local count, soft, hard = 0, PY.step_budget, PY.step_budget * PY.max_steps
+-- sim.setThreadSwitchTiming(ms): CoppeliaSim switches a thread after ms of its time (default
+-- 2 ms); here a virtual step's worth of instructions stands for the default
+local mmax, mfloor = math.max, math.floor
+function RT.switch_timing(ms)
+    soft = mmax(HOOK_EVERY, mfloor(PY.step_budget * mmax(ms, 1) / 2))
+end
 RT.switch_due = false
 local function hook()
     count = count + HOOK_EVERY

@@ -133,6 +133,9 @@ class Caller:
     def get_stepping(self) -> bool:
         return False
 
+    def set_auto_switch(self, on: bool) -> None:
+        """A threaded script's automatic thread switches on or off."""
+
     def next_pass(self) -> None:
         """Wait for the next simulation pass (a blocking function's ``yield``, where the caller
         is not a coroutine: a ZeroMQ client)."""

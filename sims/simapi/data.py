@@ -307,3 +307,63 @@ def get_explicit_handling(c: Caller, h: Any) -> int:
         except KeyError:
             pass
     return int(c.store.explicit.get(("any", integer(h, 1)), False))
+
+
+# -- tubes (V-REP 3.x: messages between scripts) ------------------------------------------------
+def tube_open(c: Caller, header: Any, name: Any, buffer_size: Any = 0, *rest: Any) -> int:
+    """The first two openers of a name are the two ends of one tube (CoppeliaSim's rule)."""
+    key = ("tube", integer(header, 1), text(name, 2))
+    ends = c.store.params.setdefault(key, [])
+    if len(ends) >= 2:
+        return -1
+    h = c.store.new_handle("tube", 7_000_000)
+    ends.append(h)
+    c.store.params[("tube end", h)] = (key, [], integer(buffer_size, 3, 0))
+    return h
+
+
+def _tube(c: Caller, h: Any) -> tuple[Any, list[bytes], int]:
+    got = c.store.params.get(("tube end", integer(h, 1)))
+    if got is None:
+        raise SimError(f"tube {h} does not exist")
+    return got
+
+
+def _other(c: Caller, h: int) -> Any:
+    key, _, _ = _tube(c, h)
+    ends = c.store.params.get(key, [])
+    other = [e for e in ends if e != h]
+    return c.store.params.get(("tube end", other[0])) if other else None
+
+
+def tube_write(c: Caller, h: Any, data: Any) -> int:
+    other = _other(c, integer(h, 1))
+    if other is None:
+        return -1
+    _, queue, size = other
+    queue.append(buffer(data, 2))
+    if size > 0 and len(queue) > size:
+        del queue[0]
+    return c.done if c.new_api else 1
+
+
+def tube_read(c: Caller, h: Any, blocking: Any = False) -> Any:
+    _, queue, _ = _tube(c, h)
+    return queue.pop(0) if queue else None
+
+
+def tube_status(c: Caller, h: Any) -> tuple[int, int, int]:
+    """(status: 0 not connected, 1 connected; packets to read; packets the other end holds)."""
+    _, queue, _ = _tube(c, h)
+    other = _other(c, integer(h, 1))
+    return (1 if other is not None else 0), len(queue), len(other[1]) if other else 0
+
+
+def tube_close(c: Caller, h: Any) -> int:
+    hh = integer(h, 1)
+    key, _, _ = _tube(c, hh)
+    ends = c.store.params.get(key, [])
+    if hh in ends:
+        ends.remove(hh)
+    c.store.params.pop(("tube end", hh), None)
+    return 1
