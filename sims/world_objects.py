@@ -148,7 +148,7 @@ class WorldObjects:
             obj.body = _primitive_body(self.client_id, obj)  # type: ignore[attr-defined]
             self._objects[obj.name] = ObjectRef(obj.name, obj.body, -1)
         else:
-            body, link, frame = self._carrier(obj.parent)
+            body, link, frame = self._carrier_frame(obj.parent)
             self._objects[obj.name] = ObjectRef(obj.name, body, link, *mul(inv(frame), obj.pose))
         self._changed()
 
@@ -423,7 +423,7 @@ class WorldObjects:
         if self._roots_map().get(h) is None and not self._is_link(h):
             # riding: follows the new parent's carrier from now on
             name = self._names[h - 1]
-            body, link, frame = self._carrier(parent)
+            body, link, frame = self._carrier_frame(parent)
             sub = [h] + [e.handle for e in self._subtree(h)]
             old = self._carried(h)
             for x in sub:
@@ -508,7 +508,7 @@ class WorldObjects:
                 s, body=body, link=link, offset_pos=offset[0], offset_orn=offset[1]
             )
 
-    def _carrier(self, parent: int | None) -> tuple[int, int, Tf]:
+    def _carrier_frame(self, parent: int | None) -> tuple[int, int, Tf]:
         """The link a child of ``parent`` rides on, and that link's world frame."""
         if parent is None:
             return -1, -1, IDENTITY

@@ -271,6 +271,12 @@ class ScriptHost:
         ]  # fmt: skip
         if not runs:
             return
+        setter = getattr(self.world, "set_joint_callback", None)
+        if setter is not None:  # the World calls it before each physics step (mech's)
+            for run in runs:
+                setter(run.object, lambda data, r=run: self._joint_answer(r, data))
+            self._remove_joint_hook = lambda: [setter(r.object, None) for r in runs]
+            return
         passes = {r.handle: 0 for r in runs}
 
         def control(world: Any) -> None:
@@ -281,6 +287,21 @@ class ScriptHost:
                 passes[run.handle] += 1
 
         self._remove_joint_hook = self.world.add_step_hook(control)
+
+    def _joint_answer(self, run: ScriptRun, data: dict) -> dict | None:
+        """The script's ``sysCall_jointCallback(inData)`` answer, as a dict (None: no answer,
+        or the script is disabled)."""
+        from .runtime import to_py
+
+        if run.removed or run.state is None:
+            return None
+        try:
+            out = run.state.call(run.state.get("sysCall_jointCallback"), data)
+        except LuaScriptError as exc:
+            self._error(run, exc)
+            return None
+        result = to_py(out[0]) if out else None
+        return result if isinstance(result, dict) else None
 
     def _joint_callback(self, run: ScriptRun, count: int) -> None:
         w = self.world

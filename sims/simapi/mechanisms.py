@@ -126,7 +126,11 @@ def get_path_length(c: Caller, h: Any) -> float:
 
 
 def set_path_target_nominal_velocity(c: Caller, h: Any, v: Any) -> int | None:
-    _path_call(c, "set_nominal_velocity", h, number(v, 2))
+    paths = _paths(c)
+    name = (
+        "set_target_velocity" if hasattr(paths, "set_target_velocity") else "set_nominal_velocity"
+    )
+    _path_call(c, name, h, number(v, 2))
     return c.done
 
 
