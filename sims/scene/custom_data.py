@@ -63,3 +63,23 @@ def object_blocks(buf: bytes, chunk: Chunk, owner: str) -> list[CustomData]:
     for c in new or old:
         found += blocks(buf, c, owner)
     return found
+
+
+def script_parameters(buf: bytes, chunk: Chunk, owner: str) -> list[CustomData]:
+    """An object's script simulation parameters (its ``Lsp`` chunk, ``CUserParameters``: a
+    ``Par`` item with a count, then name, unit, value and properties each); the value's bytes."""
+    base, _ = chunk_list(buf, chunk.start, chunk.end)
+    out: list[CustomData] = []
+    for c in base:
+        if c.name != "Lsp":
+            continue
+        items, _ = chunk_list(buf, c.start, c.end)
+        for item in items:
+            if item.name != "Par":
+                continue
+            f = Fields(buf, item)
+            for _ in range(max(0, f.i32())):
+                name, _unit, value = f.string(), f.string(), f.string()
+                f.i32()  # properties
+                out.append(CustomData(owner, name, value.encode("utf-8").hex()))
+    return out

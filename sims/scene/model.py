@@ -259,6 +259,7 @@ class Scene:
     notes: tuple[SceneNote, ...] = ()
     time_step: float = 0.05  # the simulation time step saved with the scene (s)
     custom_data: tuple[CustomData, ...] = ()  # custom data blocks (sims/scene/custom_data.py)
+    script_parameters: tuple[CustomData, ...] = ()  # sim.getScriptSimulationParameter's
 
     def by_handle(self) -> dict[int, SceneObject]:
         return {o.handle: o for o in self.objects}

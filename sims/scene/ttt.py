@@ -174,6 +174,7 @@ def read_ttt(data: bytes, source: str) -> Scene:
     time_step = 0.05
     skipped: dict[str, int] = {}
     custom: list = []
+    params: list = []
     unknown_chunks: dict[tuple[str, str], list[str]] = {}
     for c in chunks:
         try:
@@ -190,6 +191,7 @@ def read_ttt(data: bytes, source: str) -> Scene:
                 if obj is not None:
                     objects.append(obj)
                     custom += custom_data.object_blocks(buf, c, obj.name)
+                    params += custom_data.script_parameters(buf, c, obj.name)
             elif c.name in ("CDA", "CDS"):  # the scene's own custom data
                 custom += custom_data.blocks(buf, c, "")
             elif c.name == "LST":
@@ -228,6 +230,7 @@ def read_ttt(data: bytes, source: str) -> Scene:
         notes=tuple(notes),
         time_step=time_step,
         custom_data=tuple(custom),
+        script_parameters=tuple(params),
     )
 
 

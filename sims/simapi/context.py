@@ -71,6 +71,10 @@ def store(world: Any) -> Store:
             h = world.handle(block.owner) if block.owner else -12  # sim.handle_scene
             if h is not None:
                 s.custom[(h, block.tag)] = bytes.fromhex(block.hex)
+        for param in getattr(getattr(world, "source", None), "script_parameters", None) or ():
+            h = world.handle(param.owner)
+            if h is not None:
+                s.script_params[(h, param.tag)] = bytes.fromhex(param.hex)
         world._sim_store = s
     return s
 

@@ -317,8 +317,17 @@ def call_script_function(c: Caller, function: Any, script: Any, *args: Any) -> A
 
 
 def get_script_simulation_parameter(c: Caller, h: Any, name: Any, as_buffer: Any = False) -> Any:
+    """The parameter saved with the scene (or set since): a number when its text is one,
+    else the text (``as_buffer``: always the text)."""
     obj = _script_object(c, h)
-    return c.store.script_params.get((obj, text(name, 2)))
+    value = c.store.script_params.get((obj, text(name, 2)))
+    if isinstance(value, bytes) and not flag(as_buffer):
+        try:
+            number_ = float(value.decode("utf-8"))
+        except (UnicodeDecodeError, ValueError):
+            return value
+        return int(number_) if number_.is_integer() and b"." not in value else number_
+    return value
 
 
 def set_script_simulation_parameter(c: Caller, h: Any, name: Any, value: Any) -> int:
