@@ -258,17 +258,17 @@ def test_missing_functions_are_named(tmp_path):
                 getattr(sim, name)(0.1)
             except Exception as exc:
                 show(error=str(exc))
-        sim.loadScene('x.ttt')
+        sim.groupShapes([1, 2])
         """,
     )
     assert "sim.setShapeColor is not emulated" in out[0]["error"]
     assert "sim.getObjec does not exist" in out[1]["error"]
-    assert result.exit_code == 1 and "sim.loadScene is not emulated" in result.message
+    assert result.exit_code == 1 and "sim.groupShapes is not emulated" in result.message
     assert "script.py:" in err and "sim.setShapeColor" in err
     assert {m.what for m in result.missing if m.kind == "function"} == {
         "sim.setShapeColor",
         "sim.getObjec",
-        "sim.loadScene",
+        "sim.groupShapes",
     }
 
 
