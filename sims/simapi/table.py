@@ -16,7 +16,7 @@ import inspect
 from collections.abc import Callable
 from typing import Any
 
-from . import data, joints, mechanisms, motion, objects, poses, sensors, simulation, ui
+from . import data, joints, mechanisms, motion, objects, poses, sensors, shapes, simulation, ui
 
 Fn = Callable[..., Any]
 
@@ -123,6 +123,21 @@ FUNCTIONS: dict[str, Fn] = {
     "sim.addForceAndTorque": joints.add_force_and_torque,
     "sim.readForceSensor": joints.read_force_sensor,
     "sim.breakForceSensor": joints.break_force_sensor,
+    # shapes, contacts, joint matrices, graphs
+    "sim.setShapeColor": shapes.set_shape_color,
+    "sim.getShapeColor": shapes.get_shape_color,
+    "sim.getShapeMass": shapes.get_shape_mass,
+    "sim.setShapeMass": shapes.set_shape_mass,
+    "sim.getContactInfo": shapes.get_contact_info,
+    "sim.getObjectUid": shapes.get_object_uid,
+    "sim.getObjectUniqueIdentifier": shapes.get_object_uid,
+    "sim.getJointMatrix": shapes.get_joint_matrix,
+    "sim.setSphericalJointMatrix": shapes.set_spherical_joint_matrix,
+    "sim.setGraphUserData": shapes.set_graph_user_data,
+    "sim.handleGraph": shapes.handle_graph,
+    "sim.resetGraph": shapes.reset_graph,
+    "sim.addGraphStream": shapes.add_graph_stream,
+    "sim.setGraphStreamValue": shapes.set_graph_stream_value,
     # sensors, collisions, distances
     "sim.readProximitySensor": sensors.read_proximity_sensor,
     "sim.handleProximitySensor": sensors.handle_proximity_sensor,
