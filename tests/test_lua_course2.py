@@ -106,3 +106,32 @@ def test_cart_pole_stays_upright_and_drives_the_cart_where_its_script_says():
     # steady-state offset of the angle term leaves it a few cm short)
     assert _at(samples, 25.0)[0] == pytest.approx(-0.3, abs=0.08)
     assert all(x <= top + 0.02 for t, x in xs if t > top_t)
+
+
+def test_ur5_picks_the_first_block_off_the_belt_and_puts_it_down():
+    """The conveyor carries the blocks to its sensor and stops; the UR5's threaded script
+    moves over the block (rmlMoveToJointPositions), goes down by IK (rmlMoveToPosition of its
+    IK target), closes the RG2 (a string signal its script reads), lifts the block and puts it
+    down at its first drop place. The IK groups, the conveyor's path and belt and the gripper's
+    loops are the World's (issue 28: sims/kinematics.py, sims/path_objects.py)."""
+    pytest.importorskip("sims.path_objects")  # the World's mechanisms (issue 28)
+    world = World(str(shared("data", "scenes", "course2", "ur5WithRg2Grasping.ttt")))
+    host = ScriptHost(world)
+    blocks = [world.find(n) for n in ("Cuboid4", "Cuboid3")]
+    first, second = blocks
+    start = [world.object_pose(b)[0] for b in blocks]
+    host.start()
+    highest = 0.0
+    for _ in range(25 * 4):  # 25 simulated seconds
+        world.advance(0.25)
+        highest = max(highest, world.object_pose(first)[0][2])
+    errors = list(host.errors)
+    end = [world.object_pose(b)[0] for b in blocks]
+    host.close()
+    world.close()
+    assert errors == []
+    # the first block left the belt, was lifted above it and stands at the first drop place
+    # (the script's dropConfig1, then down to z = 0.025 m); the second waits on the belt
+    assert highest > start[0][2] + 0.1
+    assert math.dist(end[0][:2], (0.075, -0.6)) < 0.03 and end[0][2] < 0.05
+    assert abs(end[1][0] - start[1][0]) < 0.02 and end[1][2] == pytest.approx(start[1][2], abs=0.03)

@@ -335,13 +335,14 @@ def reset_dynamic_object(c: Caller, h: Any) -> int:
     h = c.handle(h)
     c.entry(h)
     reset = getattr(c.world, "reset_dynamic_object", None)
-    lin = [c.store.object_params.get((h, 3000 + i), 0.0) for i in range(3)]
-    ang = [c.store.object_params.get((h, 3020 + i), 0.0) for i in range(3)]
+    keys = [(h, k) for k in (3000, 3001, 3002, 3020, 3021, 3022)]
+    lin = [c.store.object_params.get(k, 0.0) for k in keys[:3]]
+    ang = [c.store.object_params.get(k, 0.0) for k in keys[3:]]
     if reset is not None:
         reset(h)
     setter = getattr(c.world, "set_initial_velocity", None)
-    if setter is not None and (any(lin) or any(ang)):
-        setter(h, tuple(lin), tuple(ang))
+    if setter is not None and any(k in c.store.object_params for k in keys):
+        setter(h, tuple(lin), tuple(ang))  # zero too: a stopped belt stops
     return c.done
 
 
