@@ -18,18 +18,16 @@ MODE_NUMBERS = {"passive": 0, "ik": 2, "dependent": 4, "force": 5}
 
 
 def _joint(c: Caller, h: Any) -> int:
-    hh = c.handle(h)
-    c.entry(hh)
-    if not c.world.is_joint(hh):
-        raise SimError(f"object {c.world.name_of(hh)!r} is not a joint")
-    return hh
+    """A joint handle; the commands check it (the hot path of motor scripts checks once)."""
+    return c.handle(h)
 
 
 def _run(fn: Any, *args: Any) -> Any:
     try:
         return fn(*args)
     except (cmd.CommandError, KeyError) as exc:
-        raise SimError(str(exc).strip("'\"")) from None
+        text_ = str(exc).strip("'\"")
+        raise SimError(text_, "handle" if "does not exist" in text_ else "argument") from None
 
 
 def get_joint_position(c: Caller, h: Any) -> float:
@@ -56,6 +54,7 @@ def set_joint_target_velocity(c: Caller, h: Any, value: Any, *motion: Any) -> in
 
 def _target(c: Caller, h: Any, kind: str) -> float:
     hh = _joint(c, h)
+    _run(cmd.joint, c.world, hh)
     command = getattr(c.world, "motor_command", None)  # World.motor_command (issue 34)
     got = command(hh) if command is not None else c.world._commands.get(c.world.name_of(hh))
     if got is not None and got[0] == kind:
@@ -72,7 +71,8 @@ def get_joint_target_velocity(c: Caller, h: Any) -> float:
 
 
 def get_joint_velocity(c: Caller, h: Any) -> float:
-    return float(c.world.joint_velocity(_joint(c, h)))
+    j = _run(cmd.joint, c.world, _joint(c, h))
+    return float(c.world.joint_velocity(j.name))
 
 
 def get_joint_force(c: Caller, h: Any) -> float:
@@ -107,6 +107,7 @@ def get_joint_interval(c: Caller, h: Any) -> tuple[bool, list[float]]:
 
 def get_joint_mode(c: Caller, h: Any) -> tuple[int, int]:
     hh = _joint(c, h)
+    _run(cmd.joint, c.world, hh)
     mode = getattr(c.world, "joint_mode", None)
     if mode is not None:
         name, hybrid = mode(hh)
@@ -122,6 +123,7 @@ def set_joint_mode(c: Caller, h: Any, mode: Any, opts: Any = 0) -> int:
     mode gives the motor back (``World.set_joint_mode``, mech's; before it lands, a joint left
     to kinematics holds its position with its motor)."""
     hh = _joint(c, h)
+    _run(cmd.joint, c.world, hh)
     m = integer(mode, 2)
     name = JOINT_MODES.get(m)
     if name is None:
