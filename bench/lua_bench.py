@@ -51,8 +51,8 @@ MODES = (GOAL_MODE, "lazy")
 
 
 def default_scenes() -> list[Path]:
-    from sims.lua.usage import scene_files
     from sims.scene.resolve import open_scene
+    from tools.lua_usage import scene_files
 
     out = [REPO / "data" / "scenes" / "lua_arm.simscene.xml"]
     shared = REPO.parent / "shared" / "data" / "scenes"
@@ -81,7 +81,7 @@ def _timing(fn):
 
 def _instrument() -> None:
     from sims import proximity
-    from sims.lua import vision
+    from sims.simapi import vision
 
     proximity.ProximitySensors._cast = _timing(proximity.ProximitySensors._cast)  # type: ignore[method-assign]
     vision.read_vision_sensor = _timing(vision.read_vision_sensor)

@@ -29,6 +29,7 @@ from sims.models import build_scene
 from sims.models.common import JointRef, ObjectRef, ProxSensor, SceneModel
 from sims.proximity import Hit, ProximitySensors
 from sims.quiet import pybullet as p
+from sims.world_objects import WorldObjects
 from sims.world_tree import TreeEntry, make_tree
 
 Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
@@ -42,7 +43,7 @@ def _scene_label(scene: Any) -> str:
     return str(getattr(scene, "source", "") or "scene")
 
 
-class World(JointMotors):
+class World(JointMotors, WorldObjects):
     """One pybullet physics client in DIRECT mode holding one scene ("2w1a" or "cart")."""
 
     def __init__(
@@ -115,6 +116,7 @@ class World(JointMotors):
         self._commands: dict[str, tuple[str, float]] = {}  # last motor command per joint
         for j in self.model.joints:
             self._init_motor(j)
+        self._objects_rebuilt()  # objects created while stopped come back (world_objects.py)
         self.time = 0.0
         self.steps = 0
 
@@ -177,15 +179,18 @@ class World(JointMotors):
 
     # -- names -------------------------------------------------------------------------------
     def tree(self) -> list[TreeEntry]:
-        """Every object of the scene, in handle order."""
-        return list(self._tree)
+        """Every object of the scene, in handle order (removed objects leave no entry)."""
+        return [e for e in self._tree if e is not None]
 
     def find(self, path_or_name: str, relative_to: int | None = None) -> int | None:
         """Handle of an old-style name (``name``, ``name#0``) or a 4.x path (``/robot/joint``,
         ``/robot/joint[0]``, ``./child`` from ``relative_to``); None when nothing matches."""
-        from sims.scene.paths import resolve
+        from sims.scene.paths import PathError, resolve
 
-        return resolve(self._tree, str(path_or_name), relative_to)
+        try:
+            return resolve(self.object_tree(), str(path_or_name), relative_to)
+        except PathError:  # a malformed path names nothing
+            return None
 
     def kind(self, handle: int | str) -> str:
         return self._tree[self.handle_of(handle) - 1].kind
@@ -195,12 +200,12 @@ class World(JointMotors):
 
     def handle_of(self, handle: int | str) -> int:
         h = self._handles.get(handle) if isinstance(handle, str) else handle
-        if not isinstance(h, int) or not 1 <= h <= len(self._tree):
+        if not isinstance(h, int) or not 1 <= h <= len(self._tree) or self._tree[h - 1] is None:
             raise KeyError(f"no object with handle {handle!r} in scene {self.scene!r}")
         return h
 
     def names(self) -> list[str]:
-        return list(self._names)
+        return [n for n in self._names if n is not None]
 
     def handle(self, name: str) -> int | None:
         return self._handles.get(name)

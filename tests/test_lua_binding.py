@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import dataclasses
 
-from sims.lua.demo import demo_scene
 from sims.lua.host import ScriptHost
 from sims.scene.model import Script
 from sims.world import World
+from tools.lua_demo import demo_scene
 
 CHECKS = """
 local function check(name, ok) sim.setIntegerSignal(name, ok and 1 or 0) end

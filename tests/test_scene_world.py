@@ -162,7 +162,8 @@ def test_find_resolves_names_and_object_paths():
         assert w.find("/cart/*[1]") == 5  # the second child of the cart
         assert w.find("/cart/leftMotor{0}") == 3
         assert w.find("./leftWheel", relative_to=3) == 4
-        assert w.find("./leftWheel") is None  # relative needs an object
+        # without a calling object, ./ searches the scene (CoppeliaSim's getObjectFromPath)
+        assert w.find("./leftWheel") == 4 and w.find(".") is None
         assert w.find("tip") == 10  # a bare alias
         assert w.find("/nothing") is None and w.find("/cart//x") is None
 

@@ -65,8 +65,8 @@ def test_an_old_scene_without_aliases_uses_names_without_suffix():
 
 def test_index_option_picks_the_nth_match():
     # both robots answer to /robot, so the third match is the V-REP-era robot's joint
-    assert [resolve(TREE, "/robot/joint", i) for i in range(4)] == [3, 5, 8, None]
-    assert [resolve(TREE, "/joint", i) for i in range(3)] == [3, 5, 8]
+    assert [resolve(TREE, "/robot/joint", index=i) for i in range(4)] == [3, 5, 8, None]
+    assert [resolve(TREE, "/joint", index=i) for i in range(3)] == [3, 5, 8]
 
 
 def test_old_style_names_are_looked_up_by_name():
@@ -83,16 +83,18 @@ def test_malformed_paths_are_errors(path):
         parse(path) if path.startswith("/") else resolve(TREE, path)
 
 
-def test_matches_come_in_hierarchy_order():
+def test_matches_come_in_coppeliasims_search_order():
+    # CoppeliaSim (getObjectFromPath) tries a level's children before their subtrees: the
+    # shallow "target" wins over the deeper one listed before it
     tree = [
         Entry(1, "a", "a", None),
         Entry(2, "x", "x", 1),
         Entry(3, "deep", "target", 2),
         Entry(4, "shallow", "target", 1),
     ]
-    assert resolve(tree, "/a/target") == 3  # listed first in the hierarchy view
-    assert resolve(tree, "/a/target{1}") == 4
-    assert resolve(tree, "/a/target[0]") == 3  # first "target" among its own siblings
+    assert resolve(tree, "/a/target") == 4
+    assert resolve(tree, "/a/target{1}") == 3
+    assert resolve(tree, "/a/target[0]") == 4  # first "target" among a's own children
     assert resolve(tree, "/a/x/target") == 3
 
 

@@ -53,7 +53,7 @@ def exercise(client) -> list:
         lambda: sim.getObject("/nope"),
         lambda: sim.getJointPosition(body),
         lambda: sim.getObjectPosition(4242, -1),
-        lambda: sim.createDummy(0.1),
+        lambda: sim.groupShapes([body]),
         lambda: sim.setJointTargetVelocity(left, "fast"),
     ):
         try:
@@ -97,5 +97,5 @@ def test_real_client_and_shim_see_the_same(monkeypatch):
     assert real[9] == pytest.approx(1.0) and len(real[10]) == 7
     errors = [item for item in real if isinstance(item, tuple) and item[0] == "raised"]
     assert [e[1] for e in errors] == ["Exception"] * 5
-    assert "sim.createDummy is not emulated" in errors[3][2]
+    assert "sim.groupShapes is not emulated" in errors[3][2]
     assert real[-2:] == [0, 0.0]

@@ -141,7 +141,10 @@ def test_vision_sensor_images_come_bottom_row_first(tmp_path):
     width, height = got["res"]
     assert got["type"] == "bytes" and got["len"] == width * height * 3
     assert got["grey"] == width * height and width > 0 and height > 0
-    assert got["handle"] == [0, [], []]
+    # (detection count, the default image processing's packet: min, max, average of intensity,
+    # red, green, blue and depth), the same as sim.readVisionSensor in the scene's scripts
+    count, packet = got["handle"]
+    assert count == 0 and len(packet) == 15 and all(0.0 <= v <= 1.0 for v in packet)
     assert "not a vision sensor" in got["error"]
     with World(str(scene)) as world:  # the same pixels the scene renders, last row first
         rgb = render_sensor(world, "LeftSensor")

@@ -253,22 +253,22 @@ def test_missing_functions_are_named(tmp_path):
     result, out, err = _run(
         tmp_path,
         """
-        for name in ('createDummy', 'getObjec'):
+        for name in ('createShape', 'getObjec'):
             try:
                 getattr(sim, name)(0.1)
             except Exception as exc:
                 show(error=str(exc))
-        sim.loadScene('x.ttt')
+        sim.groupShapes([1, 2])
         """,
     )
-    assert "sim.createDummy is not emulated" in out[0]["error"]
+    assert "sim.createShape is not emulated" in out[0]["error"]
     assert "sim.getObjec does not exist" in out[1]["error"]
-    assert result.exit_code == 1 and "sim.loadScene is not emulated" in result.message
-    assert "script.py:" in err and "sim.createDummy" in err
+    assert result.exit_code == 1 and "sim.groupShapes is not emulated" in result.message
+    assert "script.py:" in err and "sim.createShape" in err
     assert {m.what for m in result.missing if m.kind == "function"} == {
-        "sim.createDummy",
+        "sim.createShape",
         "sim.getObjec",
-        "sim.loadScene",
+        "sim.groupShapes",
     }
 
 

@@ -34,6 +34,13 @@ def attach(simulator: Any) -> ScriptHost | None:
         return None
     simulator.lua = host
     simulator.reset_observers.append(lambda _s: host.stop())
+    host.clock = simulator.clock.now  # sim.getSystemTime: the run's clock
+
+    def stop_when_asked(sim: Any) -> None:  # a script's sim.stopSimulation, at the pass end
+        if host.stop_requested and sim.can_control():
+            sim.stop()
+
+    simulator.pass_observers.append(stop_when_asked)
     if simulator.on_missing is not None:
         host.on_missing = simulator.on_missing
     if simulator.state == "running":

@@ -11,6 +11,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from sims.remote_api import constants as _remote
+from sims.simapi.constants import ADDED
 
 #: V-REP 3.x ``sim_call_type`` values (an old-style script compares against these).
 CHILD_CALLS = {"initialization": 0, "cleanup": 1, "actuation": 2, "sensing": 3, "threaded": 4}
@@ -135,6 +136,8 @@ def constants(new_style: bool) -> dict[str, int]:
         if name.startswith("sim_"):
             out[name[4:]] = getattr(_remote, name)
     out.update(EXTRA)
+    for name, value in ADDED.items():  # the one table's constants (sims/simapi/constants.py)
+        out.setdefault(name, value)
     for k, v in SYSCB.items():
         out["syscb_" + k] = v
     if new_style:  # CoppeliaSim 4.x maps the old call types onto its callbacks

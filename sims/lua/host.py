@@ -28,10 +28,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .binding import Binder
+from .binding import Binder, LuaCaller
 from .constants import constants
 from .runtime import LuaScriptError, LuaState
-from .simapi import Context
 
 
 @dataclass(frozen=True)
@@ -68,9 +67,7 @@ class ScriptRun:
     auto_switch: bool = True
     active: bool = True  # a customization script called during simulation
     callbacks: dict[str, Any] = field(default_factory=dict)  # sysCall_* looked up once
-
-
-SELF_SHAPED = ("sim.switchThread", "sim.wait")
+    threadmain: bool = False  # a 4.x threaded script: sysCall_threadmain is the coroutine
 
 
 class ScriptHost:
@@ -97,15 +94,10 @@ class ScriptHost:
         self.pass_dt = self.steps_per_pass * world.timestep
         self._sync_sensing()
         self._status = status
-        self.custom: dict[tuple[int, str], bytes] = {}
-        self.created: dict[int, dict[str, Any]] = {}
-        self.special: dict[int, int] = {}
-        self.parents: dict[int, int] = {}  # scene objects a script re-parented
-        self.uis: dict[int, dict[Any, Any]] = {}
-        self.script_attributes: dict[tuple[int, int], Any] = {}
-        version = 40100 if self.new_api else 30600
-        self.int_params: dict[int, int] = {0: 1, 1: version, 28: -1}  # 28: no fly-mode camera
         self.ports: list[int] = []
+        self.stop_requested = False  # a script called sim.stopSimulation
+        self.clock: Callable[[], float] | None = None  # the run's clock (sim.getSystemTime)
+        self.scene_dir = _scene_dir(source)
         self.errors: list[str] = []
         self.missing: list[Unemulated] = []
         self.statusbar: list[str] = []
@@ -140,10 +132,12 @@ class ScriptHost:
 
     def _load(self, run: ScriptRun) -> None:
         state = LuaState(
-            self._tmp.name, lambda name, line, r=run: self._note_missing(r, name, line)
+            self._tmp.name,
+            lambda name, line, r=run: self._note_missing(r, name, line),
+            modules=self.scene_dir,
         )
         run.state = state
-        Binder(state, Context(self, run), run.threaded, self.new_api).install()
+        Binder(state, LuaCaller(self, run), run.threaded, self.new_api).install()
         run.chunk = state.compile(run.text, run.name)
 
     def _note_missing(self, run: ScriptRun, name: str, line: int) -> None:
@@ -156,6 +150,7 @@ class ScriptHost:
     def _error(self, run: ScriptRun, exc: Exception) -> None:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         message = f"{self.scene}: {first}"
+        run.removed = True  # CoppeliaSim disables a script that raised; the rest runs on
         if message not in self.errors:
             self.errors.append(message)
             self.status(f"Lua runtime error: {first}")
@@ -229,7 +224,17 @@ class ScriptHost:
             if run.co is None:
                 run.co = run.state.thread(run.chunk)
             if run.state.resume(run.co) == "dead":
-                run.finished = True
+                main = None if run.threadmain else run.state.get("sysCall_threadmain")
+                if main is None:
+                    run.finished = True
+                    return
+                # a 4.x threaded script: its chunk defined sysCall_threadmain, which runs as
+                # the coroutine from now on (CoppeliaSim 4.2+ converts such scripts so)
+                run.threadmain = True
+                run.new_style = True
+                run.co = run.state.thread(main)
+                if run.state.resume(run.co) == "dead":
+                    run.finished = True
         except LuaScriptError as exc:
             run.finished = True
             self._error(run, exc)
@@ -251,7 +256,85 @@ class ScriptHost:
         for run in self.scripts:
             if run.kind == "child":
                 self._init(run)
+        self._joint_callbacks()
         self.actuation()
+
+    def _joint_callbacks(self) -> None:
+        """Joints whose script defines ``sysCall_jointCallback`` are controlled by it: called
+        at every physics step with the joint's state, its answer (velocity, force) drives the
+        joint's motor, as CoppeliaSim's custom joint control does."""
+        runs = [
+            r
+            for r in self.scripts
+            if r.new_style and r.state is not None and r.object > 0
+            and self.world.is_joint(r.object) and r.state.get("sysCall_jointCallback") is not None
+        ]  # fmt: skip
+        if not runs:
+            return
+        setter = getattr(self.world, "set_joint_callback", None)
+        if setter is not None:  # the World calls it before each physics step (mech's)
+            for run in runs:
+                setter(run.object, lambda data, r=run: self._joint_answer(r, data))
+            self._remove_joint_hook = lambda: [setter(r.object, None) for r in runs]
+            return
+        passes = {r.handle: 0 for r in runs}
+
+        def control(world: Any) -> None:
+            for run in runs:
+                if run.removed or run.state is None:
+                    continue
+                self._joint_callback(run, passes[run.handle])
+                passes[run.handle] += 1
+
+        self._remove_joint_hook = self.world.add_step_hook(control)
+
+    def _joint_answer(self, run: ScriptRun, data: dict) -> dict | None:
+        """The script's ``sysCall_jointCallback(inData)`` answer, as a dict (None: no answer,
+        or the script is disabled)."""
+        from .runtime import to_py
+
+        if run.removed or run.state is None:
+            return None
+        try:
+            out = run.state.call(run.state.get("sysCall_jointCallback"), data)
+        except LuaScriptError as exc:
+            self._error(run, exc)
+            return None
+        result = to_py(out[0]) if out else None
+        return result if isinstance(result, dict) else None
+
+    def _joint_callback(self, run: ScriptRun, count: int) -> None:
+        w = self.world
+        h = run.object
+        j = w._joints[w.name_of(h)]
+        command = w._commands.get(j.name)
+        pos = w.joint_position(h)
+        target = command[1] if command and command[0] == "position" else pos
+        low = j.lower if j.lower is not None else -3.141592653589793
+        high = j.upper if j.upper is not None else 3.141592653589793
+        data = {
+            "first": count == 0, "passCnt": count, "totalPasses": 1, "handle": h,
+            "revolute": j.kind == "revolute", "cyclic": j.lower is None,
+            "lowLimit": low, "highLimit": high, "currentPos": pos,
+            "currentVel": w.joint_velocity(h), "targetPos": target, "errorValue": target - pos,
+            "effort": 0.0, "dynStepSize": w.timestep,
+            "velUpperLimit": j.max_velocity if j.max_velocity else 1e9, "maxForce": j.max_force,
+        }  # fmt: skip
+        try:
+            out = run.state.call(run.state.get("sysCall_jointCallback"), data)
+        except LuaScriptError as exc:
+            self._error(run, exc)
+            return
+        from .runtime import to_py
+
+        result = to_py(out[0]) if out else None
+        if isinstance(result, dict):
+            force = result.get("force")
+            if isinstance(force, (int, float)) and abs(force) != j.max_force:
+                w.set_joint_max_force(h, abs(float(force)))
+            velocity = result.get("velocity")
+            if isinstance(velocity, (int, float)):
+                w.set_joint_target_velocity(h, float(velocity))
 
     def actuation(self) -> None:
         for run in self.scripts:
@@ -260,6 +343,10 @@ class ScriptHost:
         for run in self._ordered():
             if not run.threaded:
                 self._dispatch(run, "actuation")
+        # what CoppeliaSim's default main script does next: IK groups, paths... (the World's)
+        main = getattr(self.world, "main_script_actuation", None)
+        if main is not None:
+            main(self.pass_dt)
 
     def sensing(self) -> None:
         for run in self._ordered():
@@ -297,12 +384,16 @@ class ScriptHost:
         for run in self.scripts:
             run.state = run.chunk = run.co = None
             run.callbacks.clear()
-            run.finished = run.removed = run.new_style = False
+            run.finished = run.removed = run.new_style = run.threadmain = False
             run.active = True
+            run.auto_switch = True
             run.executions = 0
         self.started = False
-        self.created.clear()
-        self.parents.clear()
+        self.stop_requested = False
+        remove = getattr(self, "_remove_joint_hook", None)
+        if remove is not None:
+            remove()
+            self._remove_joint_hook = None
 
     def close(self) -> None:
         self.stop()
@@ -326,52 +417,16 @@ class ScriptHost:
         if port not in self.ports:
             self.ports.append(port)
 
-    def find(self, name: str, script: ScriptRun | None = None) -> int | None:
-        """A name as a script means it: in a script attached to ``robot#0``, ``wheel`` is
-        ``wheel#0`` (CoppeliaSim's name-suffix rule for copied models); ``wheel#`` is exact."""
-        for h, o in self.created.items():
-            if o["name"] == name:
-                return h
-        if script is not None and "#" not in name:
-            owner = self.world.name_of(script.object) if script.object > 0 else None
-            base, sep, suffix = (owner or "").rpartition("#")
-            if sep and suffix.isdigit():
-                found = self.world.find(f"{name}#{suffix}")
-                if found is not None:
-                    return found
-        return self.world.find(name.rstrip("#") if name.endswith("#") else name)
-
-    def not_found(self, ctx: Context, message: str) -> Any:
-        if self.new_api or self.int_params.get(0, 1) & 1 == 0:
-            return ctx.state.fail(message) if self.new_api else -1
-        self.status(f"Lua API warning: {message}")
-        return -1
-
-    def create(self, base: str, kind: int, extra: dict[str, Any]) -> int:
-        handle = len(self.world.tree()) + len(self.created) + 1
-        while handle in self.created:
-            handle += 1
-        names = {o["name"] for o in self.created.values()}
-        name, i = base, 0
-        while name in names or self.world.find(name) is not None:
-            name, i = f"{base}{i}", i + 1
-        self.created[handle] = {
-            "name": name,
-            "type": kind,
-            "pos": [0.0, 0.0, 0.0],
-            "quat": [0.0, 0.0, 0.0, 1.0],
-            "parent": -1,
-            **extra,
-        }
-        return handle
-
-    def new_ui(self, data: dict[Any, Any]) -> int:
-        handle = max(self.uis, default=0) + 1
-        self.uis[handle] = dict(data)
-        return handle
+    def system_time(self) -> float:
+        """The run's clock (virtual unless the run is in real time); the simulation time when
+        the scripts run on their own."""
+        return self.clock() if self.clock is not None else self.time
 
     def script_by_handle(self, handle: int) -> ScriptRun | None:
         return next((r for r in self.scripts if r.handle == handle), None)
+
+    def script_of_object(self, handle: int, kind: str = "child") -> ScriptRun | None:
+        return next((r for r in self.scripts if r.object == handle and r.kind == kind), None)
 
     def script_named(self, name: str, kind: str = "child") -> ScriptRun | None:
         """The script attached to the object ``name`` (``name#``/``name#0`` too)."""
@@ -385,13 +440,17 @@ class ScriptHost:
     def call_function(self, script: str, kind: str, function: str, args: tuple) -> tuple:
         """Call a script's Lua function (simxCallScriptFunction); raises LookupError or
         LuaScriptError. Returns its results converted to Python."""
-        from .runtime import to_py
-
         if not self.started:
             self.start()
         run = self.script_named(script, kind)
         if run is None or run.state is None:
             raise LookupError(f"no {kind} script attached to {script!r} is running")
+        return self.call_run(run, function, args)
+
+    def call_run(self, run: ScriptRun, function: str, args: tuple) -> tuple:
+        """Call a function of a running script; its results converted to Python."""
+        from .runtime import to_py
+
         fn = run.state.get(function)
         if fn is None:
             raise LookupError(f"script {run.name!r} has no function {function!r}")
@@ -405,3 +464,12 @@ class ScriptHost:
             lines.append("[lua] functions the scene's scripts called that are not emulated:")
             lines += [f"  {m.describe()}" for m in self.missing]
         return lines
+
+
+def _scene_dir(source: Any) -> str | None:
+    """The folder of the scene file: ``require`` finds Lua modules beside it (only there)."""
+    path = str(getattr(source, "source", "") or "")
+    if not path:
+        return None
+    folder = Path(path).resolve().parent
+    return str(folder) if folder.is_dir() else None

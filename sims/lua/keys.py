@@ -95,14 +95,29 @@ def configure(script: KeyScript | None) -> None:
     _current = script or KeyScript((), 0.0)
 
 
-def is_pressed(key: object) -> bool:
-    from sims.remote_api.client import current_session
-
-    session = current_session()
-    clock = session.clock if session is not None else None
-    if clock is not None:
-        clock.advance(POLL_COST)
-    now = clock.now() if clock is not None else 0.0
+def poll(key: object, now: float) -> bool:
+    """``keyboard.is_pressed`` at ``now`` on the script's clock (the shim advances the clock by
+    ``POLL_COST`` first): KeyboardInterrupt once the keyboard is closed."""
     if now >= _current.closes_at:
         raise KeyboardInterrupt("the scripted keyboard (--keys) has no more key presses")
     return _current.pressed(str(key), now)
+
+
+def current() -> KeyScript:
+    """The key script of the run (``--keys``): scene scripts read its presses through
+    ``sim.getSimulatorMessage`` on the simulation's clock."""
+    return _current
+
+
+#: CoppeliaSim's key codes for keys that are not one character (sim.message_keypress)
+SPECIAL_KEYS = {"up": 2007, "down": 2008, "left": 2009, "right": 2010, "enter": 13,
+                "return": 13, "space": 32, "esc": 27, "escape": 27, "tab": 9,
+                "backspace": 8, "delete": 127}  # fmt: skip
+
+
+def key_code(key: str) -> int:
+    """The code a key press carries: its character's code, or CoppeliaSim's for arrows..."""
+    k = key.lower()
+    if k in SPECIAL_KEYS:
+        return SPECIAL_KEYS[k]
+    return ord(key[0]) if key else 0

@@ -75,10 +75,29 @@ loadstring = function(s, name) return load(s, name) end
 local builtin = {
   string=string, table=table, math=math, coroutine=coroutine, os=os, io=io, utf8=utf8
 }
+-- what CoppeliaSim ships and scenes require: its API modules (the emulation's tables) and the
+-- scene's own Lua files beside the scene file (nothing else: the sandbox stays closed)
+local API = {sim=1, simUI=1, simIK=1, simRemoteApi=1, simOMPL=1, simVision=1, simAssimp=1,
+  simZMQ=1, simBubble=1, simSurfRec=1, simQHull=1, simICP=1, simWS=1}
+local loaded = {}
 require = function(name)
+    if type(name) ~= "string" then error("require: module name expected", 2) end
     if builtin[name] then return builtin[name] end
-    error("require '" .. tostring(name)
-      .. "': modules are not available to scene scripts (sandbox)", 2)
+    if API[name] then return _G[name] end
+    local base = sfind(name, "-", 1, true) and ssub(name, 1, sfind(name, "-", 1, true) - 1)
+    if base and API[base] then return _G[base] end
+    if loaded[name] ~= nil then return loaded[name] end
+    local text, chunkname = PY.module_text(name)
+    if not text then
+        error("require '" .. name .. "': " .. tostring(chunkname) ..
+            " (scene scripts may require only Lua files beside the scene file)", 2)
+    end
+    local fn, err = real_load(text, chunkname, "t")
+    if not fn then error(err, 2) end
+    local value = fn(name)
+    if value == nil then value = true end
+    loaded[name] = value
+    return value
 end
 if package then
     package.loadlib = nil
@@ -92,6 +111,12 @@ collectgarbage = function(opt) if opt == "count" then return 0 end return 0 end
 -- budget: instructions run without returning or yielding, in virtual steps' worth ----------
 local HOOK_EVERY = 1000
 local count, soft, hard = 0, PY.step_budget, PY.step_budget * PY.max_steps
+-- sim.setThreadSwitchTiming(ms): CoppeliaSim switches a thread after ms of its time (default
+-- 2 ms); here a virtual step's worth of instructions stands for the default
+local mmax, mfloor = math.max, math.floor
+function RT.switch_timing(ms)
+    soft = mmax(HOOK_EVERY, mfloor(PY.step_budget * mmax(ms, 1) / 2))
+end
 RT.switch_due = false
 local function hook()
     count = count + HOOK_EVERY
@@ -168,7 +193,7 @@ end
 -- level 2 of its error is the script's line)
 local function finish(name, threaded, first, ...)
     if first == ERR then error(name .. ": " .. tostring((...)), 2) end
-    if threaded and RT.switch_due and in_thread() then
+    if threaded and RT.switch_due and RT.auto_switch and in_thread() then
         RT.switch_due = false
         co_yield()
     end
@@ -177,6 +202,28 @@ end
 function RT.wrap(fn, name, threaded)
     return function(...)
         return finish(name, threaded, fn(...))
+    end
+end
+
+-- a blocking sim.* function (sim.wait, sim.rmlMoveToJointPositions...): Python answers
+-- (true, results...) when done, or (false, id) to be stepped again at the next pass; a thread
+-- yields in between, anything else steps on at once (CoppeliaSim's switchThread does nothing
+-- outside a thread)
+local function done(name, r)
+    if r[1] == ERR then error(name .. ": " .. tostring(r[2]), 3) end
+    return r[1] == true
+end
+function RT.blocking(start, step, name)
+    return function(...)
+        local r = pack(start(...))
+        while not done(name, r) do
+            if in_thread() then
+                RT.switch_due = false
+                co_yield()
+            end
+            r = pack(step(r[2]))
+        end
+        return table_unpack(r, 2, r.n)
     end
 end
 
@@ -195,8 +242,12 @@ function RT.module(prefix, t, resolve)
     return setmetatable(t or {}, {__index = function(tab, k)
         if type(k) ~= "string" then return nil end
         if resolve then
-            local v, fn = resolve(k)
-            if fn then v = RT.wrap(v, prefix .. "." .. k, RT.threaded) end
+            local v, fn, step = resolve(k)
+            if step then
+                v = RT.blocking(v, step, prefix .. "." .. k)
+            elseif fn then
+                v = RT.wrap(v, prefix .. "." .. k, RT.threaded)
+            end
             if v ~= nil then rawset(tab, k, v) return v end
         end
         if sfind(k, "^%l[%w]*_") or sfind(k, "^%u") then
@@ -232,14 +283,6 @@ setmetatable(_G, {__index = function(t, k)
     if sfind(k, "^sim%u") then return stub(k) end
     return nil
 end})
-
-function RT.wait(dt, now)
-    local t0 = now()
-    while now() < t0 + dt - 1e-9 do
-        if not in_thread() then return end
-        co_yield()
-    end
-end
 
 return RT
 """

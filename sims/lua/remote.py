@@ -73,7 +73,7 @@ def simxCallScriptFunction(
 def simxReadVisionSensor(clientID, sensorHandle, operationMode):
     """(code, detectionState, auxPackets): the default image processing's packet of
     min/max/average intensity, red, green, blue and depth (one packet of 15 values)."""
-    from .vision import read_vision_sensor
+    from sims.simapi.vision import read_vision_sensor
 
     h = int_arg(sensorHandle, 2)
 

@@ -12,7 +12,8 @@ Lua strings arrive as bytes (a packed buffer stays a buffer) and ``to_lua`` enco
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import lupa.lua54 as lua54
@@ -31,10 +32,6 @@ class LuaScriptError(Exception):
     """A script raised a Lua error (the message starts with ``script:line:``)."""
 
 
-class _Error:
-    """Marks a failed sim.* call: the Lua wrapper raises it at the script's line."""
-
-
 def _deny(obj: Any, name: Any, setting: bool) -> Any:
     raise AttributeError("Python attributes are not reachable from scene scripts")
 
@@ -42,7 +39,9 @@ def _deny(obj: Any, name: Any, setting: bool) -> Any:
 class LuaState:
     """A sandboxed Lua 5.4 interpreter for one script."""
 
-    def __init__(self, tmp_dir: str, missing: Callable[[str, int], None]):
+    def __init__(
+        self, tmp_dir: str, missing: Callable[[str, int], None], modules: str | None = None
+    ):
         self.lua = lua54.LuaRuntime(
             encoding=None,
             register_eval=False,
@@ -55,6 +54,7 @@ class LuaState:
             {"step_budget": STEP_BUDGET, "max_steps": MAX_STEPS},
         )
         py[b"missing"] = lambda name, line: missing(_text(name), int(line))
+        py[b"module_text"] = lambda name: module_text(modules, _text(name))
         self.err = self.lua.table()
         tmp = str(tmp_dir).rstrip("/").encode()
         self.rt = self.lua.execute(PRELUDE.encode(), py, self.err, tmp, True)
@@ -166,5 +166,19 @@ def text(value: Any) -> str:
     return _text(value)
 
 
-def seq(values: Iterable[Any]) -> list[Any]:
-    return list(values)
+def module_text(folder: str | None, name: str) -> tuple[Any, Any]:
+    """(source, chunk name) of the Lua module ``name`` (``a.b`` -> ``a/b.lua``) in the scene's
+    folder, or (None, why): the sandbox reads nothing else, and no name may climb out."""
+    if folder is None:
+        return None, b"the scene has no folder"
+    parts = name.split(".")
+    if not name or any(not p or p in (".", "..") or "/" in p or "\\" in p for p in parts):
+        return None, b"not a module name"
+    base = Path(folder)
+    path = base.joinpath(*parts[:-1], parts[-1] + ".lua")
+    try:
+        resolved = path.resolve()
+        resolved.relative_to(base.resolve())
+        return resolved.read_bytes(), ("@" + path.name).encode()
+    except (OSError, ValueError):
+        return None, f"no file {path.name} beside the scene".encode()

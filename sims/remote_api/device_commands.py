@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import pybullet as p
+from sims.quiet import pybullet as p
 
 from . import geometry as g
 from .object_commands import CommandError, joint, name

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import pybullet as p
+from sims.quiet import pybullet as p
 
 from . import geometry as g
 from .constants import (
@@ -49,9 +49,14 @@ class CommandError(Exception):
 # --- names and kinds ---------------------------------------------------------------------------
 def resolve_name(world: Any, name: Any) -> int | None:
     """Handle of ``name`` (an old-style name, ``name#``/``name#0``, or a 4.x object path)."""
+    from sims.scene.paths import PathError
+
     if isinstance(name, bytes):
         name = name.decode("utf-8", "replace")
-    return world.find(str(name))
+    try:
+        return world.find(str(name))
+    except PathError:
+        return None
 
 
 def nearest_names(world: Any, name: str, count: int = 3) -> tuple[str, ...]:
@@ -147,21 +152,13 @@ def orientation(world: Any, handle: int, relative_to: int) -> g.Vec:
     return g.matrix_to_euler(m)
 
 
-def _base_ref(world: Any, handle: int) -> Any:
-    n = name(world, handle)
-    ref = _objects(world).get(n)
-    if ref is None or ref.link != -1:
-        raise CommandError(
-            f"object {n!r} is part of a dynamic chain: only a model's base can be moved"
-        )
-    return ref
-
-
 def set_frame(
     world: Any, handle: int, relative_to: int, pos: g.Vec | None, quat: g.Quat | None
 ) -> None:
-    """Move a model's base object so that its frame is (pos, quat); None keeps that part."""
-    ref = _base_ref(world, handle)
+    """Move an object so that its frame is (pos, quat) relative to ``relative_to``; None keeps
+    that part. What hangs on it moves with it, never what it hangs on (``World.set_object_pose``:
+    a dummy on a mobile robot moves alone; a model's base moves the model)."""
+    name(world, handle)
     cur_pos, cur_quat = frame(world, handle)
     reference = _reference(world, relative_to, handle)
     if pos is None:
@@ -172,13 +169,10 @@ def set_frame(
         quat = cur_quat
     elif reference is not None:
         quat = g.to_world_quat(g.quat_to_matrix(quat), reference[1])
-    cid = world.client_id
-    inv_pos, inv_orn = p.invertTransform(ref.offset_pos, ref.offset_orn)
-    link_pos, link_orn = p.multiplyTransforms(pos, quat, inv_pos, inv_orn)
-    info = p.getDynamicsInfo(ref.body, -1, physicsClientId=cid)
-    com_pos, com_orn = p.multiplyTransforms(link_pos, link_orn, info[3], info[4])
-    p.resetBasePositionAndOrientation(ref.body, com_pos, com_orn, physicsClientId=cid)
-    world.moved()  # proximity readings see the new pose
+    try:
+        world.set_object_pose(handle, (tuple(pos), tuple(quat)))
+    except ValueError as exc:
+        raise CommandError(str(exc)) from exc
 
 
 def velocity(world: Any, handle: int) -> tuple[g.Vec, g.Vec]:

@@ -234,6 +234,17 @@ class SceneNote:
 
 
 @dataclass(frozen=True)
+class CustomData:
+    """A custom data block saved with the scene (``sim.readCustomDataBlock``): ``owner`` the
+    object's name ("" for the scene's own), its tag, its bytes as hex (text, so that the scene
+    cache's JSON holds it)."""
+
+    owner: str
+    tag: str
+    hex: str
+
+
+@dataclass(frozen=True)
 class Scene:
     """A whole scene. ``objects`` in file order (parents before children is not guaranteed);
     ``version`` the format/program version the file declares; ``notes`` what was not understood.
@@ -247,6 +258,8 @@ class Scene:
     gravity: Vec3 = (0.0, 0.0, -9.81)
     notes: tuple[SceneNote, ...] = ()
     time_step: float = 0.05  # the simulation time step saved with the scene (s)
+    custom_data: tuple[CustomData, ...] = ()  # custom data blocks (sims/scene/custom_data.py)
+    script_parameters: tuple[CustomData, ...] = ()  # sim.getScriptSimulationParameter's
 
     def by_handle(self) -> dict[int, SceneObject]:
         return {o.handle: o for o in self.objects}

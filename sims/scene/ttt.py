@@ -22,6 +22,7 @@ from __future__ import annotations
 import struct
 from dataclasses import replace
 
+from sims.scene import custom_data
 from sims.scene.errors import SceneError
 from sims.scene.model import Scene, SceneNote, SceneObject, Script
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, chunk_list, top_level
@@ -79,8 +80,6 @@ SETTINGS = {
     "SET": "main settings",
     "VEW": "views",
     "ORD": "object order",
-    "CDS": "custom data",
-    "CDA": "custom data",
     "COB": "custom objects",
     "BBK": "old custom user interfaces",
     "COL": "collision objects",
@@ -174,6 +173,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
     gravity = (0.0, 0.0, -9.81)
     time_step = 0.05
     skipped: dict[str, int] = {}
+    custom: list = []
+    params: list = []
     unknown_chunks: dict[tuple[str, str], list[str]] = {}
     for c in chunks:
         try:
@@ -189,6 +190,10 @@ def read_ttt(data: bytes, source: str) -> Scene:
                     _unknown(buf, c, obj, unknown_chunks)
                 if obj is not None:
                     objects.append(obj)
+                    custom += custom_data.object_blocks(buf, c, obj.name)
+                    params += custom_data.script_parameters(buf, c, obj.name)
+            elif c.name in ("CDA", "CDS"):  # the scene's own custom data
+                custom += custom_data.blocks(buf, c, "")
             elif c.name == "LST":
                 local: list[str] = []
                 script = read_script(buf, chunk_list(buf, c.start, c.end)[0], local)
@@ -224,6 +229,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
         gravity=gravity,
         notes=tuple(notes),
         time_step=time_step,
+        custom_data=tuple(custom),
+        script_parameters=tuple(params),
     )
 
 

@@ -7,6 +7,8 @@ API never had are added here (values from CoppeliaSim 4.x's ``sim`` module).
 
 from __future__ import annotations
 
+from sims.simapi.constants import ADDED as _added
+
 from .. import constants as _legacy
 
 CONSTANTS: dict[str, int | float | str] = {
@@ -68,11 +70,14 @@ CONSTANTS.update(
         "floatparam_simulation_time_step": _legacy.sim_floatparam_simulation_time_step,
         "intparam_idle_fps": _legacy.sim_intparam_idle_fps,
         "stringparam_scene_path_and_name": 13,
-        "stringparam_scene_name": 14,
-        "stringparam_scene_path": 15,
+        "stringparam_scene_path": 14,
+        "stringparam_scene_name": 15,
         "intparam_simulation_warning_disabled_mask": 22,
     }
 )
+
+for _name, _value in _added.items():  # the one table's constants (sims/simapi/constants.py)
+    CONSTANTS.setdefault(_name, _value)
 
 #: Values of getSimulationState.
 SIMULATION_STOPPED = CONSTANTS["simulation_stopped"]

@@ -1,4 +1,5 @@
-"""Which ``sim`` functions the course scenes' scripts call: the table in docs/lua.md.
+"""Which ``sim`` functions the course scenes' scripts call: the table in docs/lua.md (a dev tool,
+outside the runtime package: ``python -m sims.lua functions FOLDER`` runs it from a checkout).
 
 ``scan(folder)`` loads every scene file under ``folder`` (loading runs nothing), strips Lua
 comments from each child and customization script (the main script is CoppeliaSim's default,
@@ -12,12 +13,11 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from .simapi import OLD_NAMES, REGISTRY
+from sims.simapi.table import FUNCTIONS, OLD_NAMES
 
 CALL = re.compile(r"\b(sim[A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)?)\s*\(")
 LONG_COMMENT = re.compile(r"--\[(=*)\[.*?\]\1\]", re.S)
 LINE_COMMENT = re.compile(r"--[^\n]*")
-IN_LUA = {"sim.switchThread", "sim.wait"}  # written in Lua (prelude), not in REGISTRY
 
 
 @dataclass(frozen=True)
@@ -32,8 +32,7 @@ def canonical(name: str) -> str:
     if "." in name:
         return name
     if name in OLD_NAMES:
-        new = OLD_NAMES[name]
-        return new if "." in new else "sim." + new
+        return OLD_NAMES[name]
     if name.startswith("simExt") or name in ("sim",):
         return name
     if re.match(r"sim[A-Z]", name):
@@ -42,11 +41,7 @@ def canonical(name: str) -> str:
 
 
 def is_emulated(function: str) -> bool:
-    if function in IN_LUA:
-        return True
-    if function.startswith("sim."):
-        return function[4:] in REGISTRY
-    return function in REGISTRY
+    return function in FUNCTIONS
 
 
 def scene_files(folder: Path) -> list[Path]:

@@ -11,7 +11,7 @@ spinning flag on a velocity-controlled joint. Nothing moves unless the scripts r
   the flag one way for 2 s, then the other way, forever, yielding at ``simWait``; a remote API
   client can change its speed with the float signal ``flagSpeed``.
 
-``python -m sims.lua.demo OUT`` writes the scene (deterministic: same bytes each time); a test
+``python -m tools.lua_demo OUT`` writes the scene (deterministic: same bytes each time); a test
 checks the shipped file against it.
 """
 
