@@ -23,6 +23,11 @@ from pathlib import Path
 POLL_COST = 0.002  # virtual seconds one keyboard poll takes
 
 
+class KeysEnded(KeyboardInterrupt):
+    """The scripted keyboard has no more key presses: raised in the script like the Ctrl+C
+    that ends it at a real keyboard. A run that ends this way ended as planned."""
+
+
 class KeysFileError(ValueError):
     """A keys file that cannot be used: the message names the file, line and field."""
 
@@ -104,5 +109,5 @@ def is_pressed(key: object) -> bool:
         clock.advance(POLL_COST)
     now = clock.now() if clock is not None else 0.0
     if now >= _current.closes_at:
-        raise KeyboardInterrupt("the scripted keyboard (--keys) has no more key presses")
+        raise KeysEnded("the scripted keyboard (--keys) has no more key presses")
     return _current.pressed(str(key), now)

@@ -22,6 +22,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import sims.quiet  # noqa: F401  (pybullet imported silently before anything imports it)
 from located.verbosity import add_verbosity
 
 from .client import missing_report
@@ -126,8 +127,22 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     return parser
 
 
+def split_script_args(argv: list[str]) -> tuple[list[str], list[str]]:
+    """The command's own arguments and the script's: everything after the first ``--`` is the
+    script's, wherever the options stand (``run S --scene X --timeout 20 -- a b``)."""
+    if "--" in argv:
+        at = argv.index("--")
+        return argv[:at], argv[at + 1 :]
+    return argv, []
+
+
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
-    args = _parser(prog).parse_args(argv)
+    own, extra = split_script_args(list(sys.argv[1:] if argv is None else argv))
+    args = _parser(prog).parse_args(own)
+    if args.command == "run":
+        args.script_args = [*args.script_args, *extra]
+    elif extra:
+        _parser(prog).error(f"unexpected arguments after --: {' '.join(extra)}")
     if args.command == "functions":
         return _functions()  # -q/-v: the lists are the command's data, printed either way
     return _run(args)
@@ -285,7 +300,16 @@ def record_clip(
     width, _, height = args.size.partition("x")
     out = Path(args.record)
     stem = out.with_suffix("") if out.suffix == ".webm" else out
-    params = {"scene": scene, "after": args.after, "server": args.server, "timeout": args.timeout}
+    params = {
+        "scene": scene,
+        "after": args.after,
+        "server": args.server,
+        "timeout": args.timeout,
+        "args": list(args.script_args),  # the recorded run is the same run: same arguments,
+        "keys": args.keys,  # same key presses and the same standard input
+        "stdin": args.stdin,
+        "python": getattr(args, "python", None),
+    }
     spec = ClipSpec(
         name=stem.name,
         scenario=str(Path(args.script).resolve()),

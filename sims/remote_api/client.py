@@ -144,6 +144,7 @@ class Session:
         self._stderr = stderr
         self.lock = threading.RLock()
         self.missing: list[Missing] = []  # in call order, one per (kind, what, site)
+        self.found_objects = 0  # object look-ups by name or path that found something
         self.reset_hooks: list[Callable[[Session], None]] = []  # after a scene reset
 
     def _after_reset(self, _sim) -> None:

@@ -28,6 +28,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from sims.lua.keys import KeysEnded
+
 from .client import Connection, Session, set_session
 from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
 from .isolate import run_isolated, thread_network_namespace
@@ -69,20 +71,30 @@ class RunResult:
     final_state: str = "stopped"  # the simulation's state when the run ended
     isolation: str = "in-process"  # how the run was fenced in (see isolate.py)
     missing: list[Any] = field(default_factory=list)  # client.Missing: names/functions lacking
+    keys_ended: bool = False  # ended by the end of its key file (--keys), as planned
 
     @property
     def ok(self) -> bool:
         return self.exit_code == 0
 
     def summary(self) -> str:
-        speed = self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
         addresses = ", ".join(sorted({f"{c.address}:{c.port}" for c in self.connections})) or "none"
         return (
             f"{self.script}: exit {self.exit_code}; simulated {self.sim_time:.2f} s in "
             f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
-            f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
-            f"contacted): {addresses}"
+            f"{self.wall_time:.2f} s{speed_note(self.sim_time, self.wall_time)}; "
+            f"connections asked for (recorded, not contacted): {addresses}"
         ) + (f"; isolation: {self.isolation}" if self.isolation.endswith(" only") else "")
+
+
+def speed_note(sim_time: float, wall_time: float) -> str:
+    """`` (49x real time)``, `` (0.4x real time)``; nothing when no simulation ran or no time
+    passed (a missing script, a script that never started its simulation)."""
+    if sim_time <= 0 or wall_time <= 0:
+        return ""
+    speed = sim_time / wall_time
+    digits = 0 if speed >= 10 else 1 if speed >= 0.1 else 3
+    return f" ({speed:.{digits}f}x real time)"
 
 
 def _script_line(exc: BaseException, path: Path) -> int | None:
@@ -174,6 +186,7 @@ def run_script(
                     cut = stack.enter_context(thread_network_namespace())
                     result.isolation = IN_PROCESS_NAMESPACE if cut else IN_PROCESS_GUARD
             _execute(path, label, clock, timeout, result, err, wall_timeout)
+            _check_scene_fits(session, result)
             clock.limit = None
             if after > 0 and sim.world is not None:
                 release_stepping(session)  # the ZeroMQ client is gone: the world runs free
@@ -272,6 +285,9 @@ def _execute(
             f"{_where(label, _script_line(exc, path))}: stopped: the script ran past "
             f"its time limit of {timeout if clock.timed_out else wall:g} s ({kind} time)"
         )
+    except KeysEnded:  # the key file ended: the run ended as planned (sims/lua/keys.py)
+        result.exit_code = 0
+        result.keys_ended = True
     except KeyboardInterrupt as exc:
         result.exit_code = 130
         result.message = f"{_where(label, _script_line(exc, path))}: interrupted"
@@ -282,6 +298,22 @@ def _execute(
         result.exit_code = 1
         result.message = f"{_where(label, _script_line(exc, path))}: {type(exc).__name__}" + (
             f": {text}" if text else ""
+        )
+
+
+WRONG_SCENE_EXIT = 3
+
+
+def _check_scene_fits(session: Session, result: RunResult) -> None:
+    """A script that ended well but found none of the objects it asked for ran on the wrong
+    scene: that is not a success (exit 3, as --strict would give)."""
+    asked = [m for m in session.missing if m.kind == "object"]
+    if result.exit_code == 0 and asked and session.found_objects == 0:
+        result.exit_code = WRONG_SCENE_EXIT
+        names = ", ".join(repr(m.what) for m in asked[:3]) + (", ..." if len(asked) > 3 else "")
+        result.message = (
+            f"{result.script}: none of the {len(asked)} object(s) the script asked for is in "
+            f"scene {Path(result.scene).name} ({names}): wrong --scene?"
         )
 
 

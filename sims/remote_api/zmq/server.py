@@ -30,6 +30,9 @@ from . import paths
 from .constants import CONSTANTS
 from .registry import NOT_EMULATED
 
+#: Functions that look an object up by name or path (a success counts in Session.found_objects).
+LOOKUPS = frozenset({"sim.getObject", "sim.getObjectHandle"})
+
 
 class ZmqError(Exception):
     """A request failed on the server side: the reply carries ``err``."""
@@ -176,6 +179,8 @@ class ZmqServer:
                 if func != "sim.step":
                     self.simulator.call(blocking=False)
                 ret = impl(self, *args)
+                if func in LOOKUPS and isinstance(ret, int) and ret >= 0:
+                    self.session.found_objects += 1
             except ZmqError as exc:
                 return {"err": str(exc)}
             except Exception as exc:  # a bad value deep in an argument: still the call's error
