@@ -34,6 +34,7 @@ from .client import Connection, Session, set_session
 from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
 from .isolate import run_isolated, thread_network_namespace
 from .script_fences import Watchdog, no_network, script_environment
+from .shim_finder import substitute_clients
 from .zmq import uses_zmq
 from .zmq.server import release_stepping
 
@@ -179,6 +180,7 @@ def run_script(
     try:
         with contextlib.ExitStack() as stack:
             stack.enter_context(script_environment(path, argv, seed))
+            stack.enter_context(substitute_clients())
             stack.enter_context(patch_time(clock, tid))
             if not network:
                 stack.enter_context(no_network(tid, every_thread=_in_child))
