@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import sims.quiet  # noqa: F401  (pybullet's banner silenced before anything imports it)
 from sims.lua.attach import attach
 
 from .clock import Clock, WallClock
@@ -101,6 +102,9 @@ class Simulator:
         self.lua: Any = None  # sims.lua.ScriptHost running the scene's scripts, if it has any
         self.on_status: Callable[[str], None] | None = None  # set by the owning Session
         self.on_missing: Callable[[Any], None] | None = None  # an Unemulated Lua call
+        #: served to clients over sockets (``sitegen remote-api serve``): time is the wall
+        #: clock's, so a call costs no clock time and a blocking call does not wait for a pass
+        self.served = False
 
     # --- scene -------------------------------------------------------------------------------
     def choose_server(self, port: int) -> None:
@@ -167,6 +171,9 @@ class Simulator:
         A blocking call while the simulation runs waits for the reply, which the server sends
         at its next simulation pass.
         """
+        if self.served:
+            self.last_reply_time = self.sim_time
+            return 0.0
         start = self.clock.now()
         if blocking and self.world is not None and self.state == RUNNING and not self.synchronous:
             wait = self.pass_dt - self._debt

@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 import inspect
 import numbers
+import threading
 from typing import Any, NoReturn
 
 from ..client import Session, script_site
@@ -32,6 +33,9 @@ from .registry import NOT_EMULATED
 
 #: Functions that look an object up by name or path (a success counts in Session.found_objects).
 LOOKUPS = frozenset({"sim.getObject", "sim.getObjectHandle"})
+
+
+WAIT_SLICE = 0.05  # s: a client waiting for a pass looks again at least this often
 
 
 class ZmqError(Exception):
@@ -61,6 +65,13 @@ class ZmqServer:
         self.targets: dict[int, tuple[str, float]] = {}  # last joint target per handle
         self.client_uuid = ""  # the client whose request is being handled
         self._tree_cache: tuple[Any, tuple, paths.Tree] | None = None
+        self.desired: dict[str, int] = {}  # per stepping client: the pass it asked for
+        self.closing = False  # the wire server is shutting down: nobody waits for a pass
+        #: signalled after every simulation pass and scene reset (waiting clients look again)
+        self.cond = threading.Condition(session.lock)
+        if session.simulator is not None:
+            session.simulator.pass_observers.append(self._wake)
+            session.simulator.reset_observers.append(self._wake)
 
     # --- the World ------------------------------------------------------------------------
     @property
@@ -141,12 +152,59 @@ class ZmqServer:
             self.fail(kind, text, func)
 
     # --- stepping ---------------------------------------------------------------------------
+    # CoppeliaSim's ZeroMQ add-on: while any client steps, a simulation pass happens once every
+    # stepping client has asked for it (``sim.step``), and ``sim.step`` returns once that pass
+    # is done; a client that does not step waits in ``sim.step`` for the next pass. Clients in
+    # other threads (in process) or behind the wire server (one thread each) wait on ``cond``.
     def apply_stepping(self) -> None:
         sim = self.simulator
         stepped = any(level > 0 for level in self.stepping.values())
         if stepped != sim.synchronous:
             sim.sync()
             sim.synchronous = stepped
+        self.advance()  # a client that stopped stepping may have held the others
+
+    def _wake(self, _sim: Any = None) -> None:
+        with self.cond:
+            self.cond.notify_all()
+
+    def advance(self) -> None:
+        """Run the pass the stepping clients asked for, once all of them have."""
+        sim = self.simulator
+        if not sim.synchronous or sim.world is None or sim.state != "running":
+            return
+        steppers = [uuid for uuid, level in self.stepping.items() if level > 0]
+        if steppers and all(self.desired.get(u, -1) > sim.passes for u in steppers):
+            sim.trigger()
+
+    def step(self) -> None:
+        """``sim.step()`` for the client whose request this is (see above)."""
+        uuid, sim = self.client_uuid, self.simulator
+        if sim.world is None or sim.state != "running":
+            sim.call(blocking=False)
+            return
+        target = sim.passes + 1
+        if self.stepping.get(uuid, 0) > 0 and sim.synchronous:
+            self.desired[uuid] = target
+            self.advance()
+        elif not sim.served:
+            sim.call(blocking=True)  # in process: the run's clock moves on to the next pass
+            return
+        with self.cond:
+            while (
+                sim.passes < target
+                and sim.state == "running"
+                and sim.world is not None
+                and not self.closing
+            ):
+                self.cond.wait(WAIT_SLICE)  # in slices: the script's watchdog can still stop it
+            self.client_uuid = uuid
+
+    def end_client(self, uuid: str) -> None:
+        """A client left (``_*end*_``, its connection closed): it no longer holds the others."""
+        self.stepping.pop(uuid, None)
+        self.desired.pop(uuid, None)
+        self.apply_stepping()
 
     # --- requests ---------------------------------------------------------------------------
     def handle(self, request: dict[str, Any]) -> dict[str, Any]:
@@ -154,8 +212,8 @@ class ZmqServer:
         functions = self.functions
         func = str(request.get("func", ""))
         args = plain(list(request.get("args") or []))
-        self.client_uuid = str(request.get("uuid", ""))
         with self.session.lock:
+            self.client_uuid = str(request.get("uuid", ""))
             if self.simulator is None:
                 return {"err": "no scene is configured (in function '" + func + "')"}
             try:

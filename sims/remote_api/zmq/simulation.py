@@ -103,16 +103,10 @@ def get_stepping(srv: ZmqServer) -> bool:
 
 @api("step")
 def step(srv: ZmqServer, wait: Any = True) -> None:
-    """One simulation pass in stepping mode; without stepping, wait for the next pass. A
-    stopped or paused simulation does not move."""
-    sim = srv.simulator
-    if sim.world is None or sim.state != RUNNING:
-        sim.call(blocking=False)
-    elif srv.stepping.get(srv.client_uuid, 0) > 0 and sim.synchronous:
-        sim.trigger()
-        sim.call(blocking=False)
-    else:
-        sim.call(blocking=True)
+    """One simulation pass in stepping mode (once every stepping client asked for it);
+    without stepping, wait for the next pass. A stopped or paused simulation does not move.
+    The rules are the server's (``ZmqServer.step``): they hold for every client."""
+    srv.step()
 
 
 # --- parameters --------------------------------------------------------------------------------
