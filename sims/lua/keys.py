@@ -107,7 +107,12 @@ def is_pressed(key: object) -> bool:
     clock = session.clock if session is not None else None
     if clock is not None:
         clock.advance(POLL_COST)
-    now = clock.now() if clock is not None else 0.0
+    return pressed_at(key, clock.now() if clock is not None else 0.0)
+
+
+def pressed_at(key: object, now: float) -> bool:
+    """Whether ``key`` is held at ``now`` (the run's clock); raises KeysEnded once the key
+    file has ended (also for a script in another Python, through sims/remote_api/rpc.py)."""
     if now >= _current.closes_at:
         raise KeysEnded("the scripted keyboard (--keys) has no more key presses")
     return _current.pressed(str(key), now)

@@ -103,6 +103,19 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         "--realtime", action="store_true", help="pace by the wall clock instead of virtual time"
     )
     run.add_argument(
+        "--python",
+        metavar="PATH",
+        help="run the script in this Python interpreter (its own packages, e.g. an older "
+        "numpy) against a served scene, over loopback sockets, on the wall clock",
+    )
+    run.add_argument(
+        "--speed",
+        type=_positive,
+        default=1.0,
+        metavar="X",
+        help="with --python: the simulation's clock runs X times the wall clock (default 1)",
+    )
+    run.add_argument(
         "--timeout",
         type=float,
         default=DEFAULT_TIMEOUT,
@@ -119,6 +132,31 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
     add_verbosity(run, "no summary line", "also the scene and seed before the run")
+    serve = sub.add_parser(
+        "serve",
+        help="serve a scene to real remote API clients (ZeroMQ and legacy) on 127.0.0.1",
+        description="Hold SCENE and serve CoppeliaSim's ZeroMQ remote API (port 23000) and "
+        "legacy remote API (ports 19997 and 19999) on 127.0.0.1 until interrupted. Stepping "
+        "clients are deterministic; a free-running simulation follows the wall clock.",
+    )
+    serve.add_argument("scene", metavar="SCENE", help="a bundled scene name or a scene file")
+    serve.add_argument("--seed", type=int, default=0, help="the scene's seed (default 0)")
+    serve.add_argument(
+        "--speed", type=_positive, default=1.0, metavar="X", help="clock speed (default 1)"
+    )
+    serve.add_argument("--server", choices=SERVER_KINDS, help="legacy server kind")
+    serve.add_argument("--zmq-port", type=int, default=23000, metavar="PORT")
+    serve.add_argument(
+        "--legacy-port",
+        type=int,
+        action="append",
+        metavar="PORT",
+        help="legacy remote API port (repeatable; default 19997 and 19999)",
+    )
+    serve.add_argument(
+        "--for", dest="duration", type=_positive, metavar="S", help="stop after S wall seconds"
+    )
+    add_verbosity(serve, "nothing but errors", "also each client")
     add_verbosity(
         sub.add_parser("functions", help="list the emulated and the unsupported simx functions"),
         "accepted as on every command; the lists are always printed",
@@ -136,6 +174,16 @@ def split_script_args(argv: list[str]) -> tuple[list[str], list[str]]:
     return argv, []
 
 
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, not {text}")
+    return value
+
+
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
     own, extra = split_script_args(list(sys.argv[1:] if argv is None else argv))
     args = _parser(prog).parse_args(own)
@@ -145,7 +193,49 @@ def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int
         _parser(prog).error(f"unexpected arguments after --: {' '.join(extra)}")
     if args.command == "functions":
         return _functions()  # -q/-v: the lists are the command's data, printed either way
+    if args.command == "serve":
+        return _serve(args)
     return _run(args)
+
+
+def _serve(args: argparse.Namespace) -> int:
+    """Serve until Ctrl+C (or ``--for`` seconds)."""
+    from .clock import real_sleep
+    from .serve import LEGACY_PORTS, serving
+
+    problem = _check_scene(args.scene)
+    if problem:
+        print(f"error: {problem}", file=sys.stderr)
+        return 2
+    scene = args.scene if is_bundled_name(args.scene) else str(Path(args.scene).resolve())
+    ports = tuple(args.legacy_port or LEGACY_PORTS)
+    try:
+        with serving(
+            scene,
+            seed=args.seed,
+            speed=args.speed,
+            server=args.server,
+            zmq_port=args.zmq_port,
+            legacy_ports=ports,
+        ) as served:
+            if args.verbosity >= 0:
+                print(
+                    f"[remote-api] serving {Path(scene).name} on 127.0.0.1: ZeroMQ "
+                    f"{served.zmq_port}, legacy {', '.join(map(str, served.legacy_ports))} "
+                    "(Ctrl+C stops)",
+                    file=sys.stderr,
+                    flush=True,
+                )
+            left = args.duration
+            while left is None or left > 0:
+                real_sleep(0.2 if left is None else min(0.2, left))
+                left = None if left is None else left - 0.2
+    except OSError as exc:
+        print(f"error: cannot serve on 127.0.0.1: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        pass
+    return 0
 
 
 def _functions() -> int:
@@ -243,6 +333,8 @@ def _run(args: argparse.Namespace) -> int:
             after=args.after,
             timeout=args.timeout,
             argv=args.script_args,
+            python=args.python,
+            speed=args.speed,
         )
     finally:
         sys.stdin = saved_stdin

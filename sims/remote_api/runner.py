@@ -84,7 +84,11 @@ class RunResult:
             f"{self.script}: exit {self.exit_code}; simulated {self.sim_time:.2f} s in "
             f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
             f"{self.wall_time:.2f} s{speed_note(self.sim_time, self.wall_time)}; "
-            f"connections asked for (recorded, not contacted): {addresses}"
+            + (
+                f"connections (served on loopback): {addresses}"
+                if self.isolation.startswith("own Python")
+                else f"connections asked for (recorded, not contacted): {addresses}"
+            )
         ) + (f"; isolation: {self.isolation}" if self.isolation.endswith(" only") else "")
 
 
@@ -130,6 +134,8 @@ def run_script(
     trace: bool = True,
     wall_timeout: float | None = None,
     isolate: bool = True,
+    python: str | None = None,
+    speed: float = 1.0,
 ) -> RunResult:
     """Run ``script`` against ``scene``; see the module docstring. ``world``: drive this World
     (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass.
@@ -140,7 +146,10 @@ def run_script(
     (the default) the script runs in a child process (isolate.py) that is killed, with all it
     started, when the script ends or its wall-clock limit + ``after`` + KILL_GRACE pass. A run
     that drives the caller's ``world`` or calls ``on_pass`` needs the caller's objects and runs
-    in this process (the clip recorder's worker process is itself killable)."""
+    in this process (the clip recorder's worker process is itself killable).
+
+    ``python``: run the script in that interpreter against a served scene, over loopback
+    sockets on the wall clock (``speed`` scales it); see foreign.py."""
     label = str(script)
     for name, value in (("timeout", timeout), ("wall_timeout", wall_timeout)):
         if value is not None and not 0 < value < math.inf:
@@ -150,6 +159,25 @@ def run_script(
         # every other argument goes to the child as given (a new parameter needs no edit here)
         options = {k: v for k, v in locals().items() if k in _forwarded_parameters()}
         return _run_in_child(script, scene, options, stderr)
+    if python:  # the script in its own Python, over loopback sockets (foreign.py)
+        from .foreign import run_foreign
+
+        return run_foreign(
+            script,
+            scene,
+            python,
+            seed=seed,
+            server=server,
+            after=after,
+            timeout=timeout,
+            wall_timeout=wall_timeout,
+            argv=argv,
+            speed=speed,
+            stderr=stderr,
+            world=world,
+            on_pass=on_pass,
+            scene_options=scene_options,
+        )
     path = Path(script).resolve()
     err = stderr or sys.stderr
     result = RunResult(label, scene, exit_code=0)

@@ -61,6 +61,7 @@ def serving(
     scene_options: dict[str, Any] | None = None,
     stderr: Any = None,
     zmq: bool = True,
+    world_factory: Any = None,
 ) -> Iterator[Served]:
     """Serve ``scene`` while the block runs. ``zmq_port=0`` / a legacy port 0: a free port
     the system picks (the ``Served`` record says which)."""
@@ -72,6 +73,7 @@ def serving(
         server=server,
         clock=WallClock(None, scale=speed),
         scene_options=scene_options,
+        world_factory=world_factory,
         stderr=stderr,
     )
     session.simulator.served = True
