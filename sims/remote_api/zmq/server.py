@@ -247,6 +247,20 @@ class ZmqServer:
                 return {"err": message}
         return {"ret": list(ret) if isinstance(ret, tuple) else [ret]}
 
+    def call_function(self, func: str, args: list[Any]) -> Any:
+        """Call the ``sim.*`` function ``func`` for another API (the legacy ``simx*`` functions
+        that create, remove, re-parent or load): its return value, or ``ZmqError`` with
+        CoppeliaSim's message (also when the emulation lacks it)."""
+        impl = self.functions.get(func)
+        with self.session.lock:
+            if impl is None:
+                raise ZmqError(f"{func} is not emulated by sitegen. (in function '{func}')")
+            try:
+                _signature(impl).bind(self, *args)
+            except TypeError:
+                raise ZmqError(f"wrong number of arguments. (in function '{func}')") from None
+            return impl(self, *plain(list(args)))
+
     def info(self, name: str) -> dict[str, Any]:
         """``zmqRemoteApi.info``: the module's functions and constants, as the client expects."""
         if name != "sim":
