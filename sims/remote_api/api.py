@@ -6,6 +6,8 @@ Unknown ``simx*`` names resolve (module ``__getattr__``) to a stub that returns
 
 from __future__ import annotations
 
+import sims.quiet as _quiet  # noqa: F401  (pybullet's banner silenced before the modules load it)
+
 from . import constants as _constants
 from . import extras as _extras
 from . import functions_objects as _objects

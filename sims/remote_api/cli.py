@@ -239,27 +239,9 @@ def _serve(args: argparse.Namespace) -> int:
 
 
 def _functions() -> int:
-    from . import api, extras
+    from .functions import main as list_functions
 
-    unsupported = set(extras.UNSUPPORTED)
-    names = sorted(n for n in api.__all__ if n.startswith("simx") and not n.startswith("simx_"))
-    supported = [n for n in names if n not in unsupported]
-    print(f"emulated ({len(supported)}):")
-    for n in supported:
-        print(f"  {n}")
-    print(f"not supported: return simx_return_local_error_flag ({len(unsupported)}):")
-    for n in sorted(unsupported):
-        print(f"  {n}")
-    from .zmq.functions import NOT_EMULATED, load
-
-    zmq_names = sorted(load())
-    print(f"ZeroMQ API (sim.*), emulated ({len(zmq_names)}):")
-    for n in zmq_names:
-        print(f"  {n}")
-    print(f"ZeroMQ API, not emulated: raise an error ({len(NOT_EMULATED)}):")
-    for n in sorted(NOT_EMULATED):
-        print(f"  {n}")
-    return 0
+    return list_functions([])
 
 
 def _scene_for(args: argparse.Namespace) -> str | None:

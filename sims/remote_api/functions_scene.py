@@ -18,6 +18,46 @@ from . import commands as cmd
 from .client import current_session, script_site
 from .execute import execute, f32, f32s, float_arg, int_arg, str_arg
 
+#: Which sim.* function carries out each legacy function of this module (the listing's table).
+VIA = {
+    "simxCreateDummy": "sim.createDummy",
+    "simxRemoveObject": "sim.removeObject",
+    "simxRemoveModel": "sim.removeModel",
+    "simxSetObjectParent": "sim.setObjectParent",
+    "simxCopyPasteObjects": "sim.copyPasteObjects",
+    "simxGetObjectSelection": "sim.getObjectSel",
+    "simxSetObjectSelection": "sim.setObjectSel",
+    "simxLoadScene": "sim.loadScene",
+    "simxLoadModel": "sim.loadModel",
+    "simxCloseScene": "sim.closeScene",
+    "simxGetCollisionHandle": "sim.getCollisionHandle",
+    "simxGetDistanceHandle": "sim.getDistanceHandle",
+    "simxGetCollectionHandle": "sim.getCollectionHandle",
+    "simxReadCollision": "sim.readCollision",
+    "simxReadDistance": "sim.readDistance",
+    "simxCheckCollision": "sim.checkCollision",
+    "simxCheckDistance": "sim.checkDistance",
+    "simxReadForceSensor": "sim.readForceSensor",
+    "simxBreakForceSensor": "sim.breakForceSensor",
+    "simxGetVisionSensorDepthBuffer": "sim.getVisionSensorDepth",
+    "simxSetVisionSensorImage": "sim.setVisionSensorImg",
+    "simxGetObjectFloatParameter": "sim.getObjectFloatParam",
+    "simxGetObjectIntParameter": "sim.getObjectInt32Param",
+    "simxSetObjectFloatParameter": "sim.setObjectFloatParam",
+    "simxSetObjectIntParameter": "sim.setObjectInt32Param",
+    "simxGetModelProperty": "sim.getModelProperty",
+    "simxSetModelProperty": "sim.setModelProperty",
+    "simxGetStringParameter": "sim.getStringParam",
+    "simxSetFloatingParameter": "sim.setFloatParam",
+    "simxSetIntegerParameter": "sim.setInt32Param",
+    "simxSetBooleanParameter": "sim.setBoolParam",
+    "simxSetArrayParameter": "sim.setArrayParam",
+    "simxAuxiliaryConsoleOpen": "sim.auxiliaryConsoleOpen",
+    "simxAuxiliaryConsoleClose": "sim.auxiliaryConsoleClose",
+    "simxAuxiliaryConsolePrint": "sim.auxiliaryConsolePrint",
+    "simxAuxiliaryConsoleShow": "sim.auxiliaryConsoleShow",
+}
+
 
 def _sim(func: str, *args: Any, legacy: str, site: str) -> Any:
     """``func(*args)`` from the sim.* table, for the legacy function ``legacy``."""

@@ -323,4 +323,8 @@ def run_command(cid: int, cmd: Command) -> tuple[bool, bytes]:
 
 
 #: simx functions served on the wire, by command code (for the function listing)
-SERVED = sorted({name for name, _ in TABLE.values()})
+SERVED = sorted(
+    {name for name, _ in TABLE.values()}
+    | {"simxPauseSimulation", "simxStopSimulation"}  # one command code with start (0x1007)
+    | {"simxJointGetForce", "simxSetJointForce", "simxWriteStringStream"}  # the library's aliases
+)
