@@ -251,3 +251,24 @@ def test_clip_keys_args_and_python_in_sitegen_yml(tmp_path):
     plan = script_plan(spec)
     assert 0.75 < plan.duration < 1.0  # measured: the run ends with its key file (0.8 s)
     assert str(tmp_path / "keys.txt") in plan.hash_files
+
+
+def test_function_listing_covers_every_function_and_the_docs_name_them():
+    from sims.remote_api import api
+    from sims.remote_api.functions import legacy_rows, zmq_rows
+
+    legacy = {r.name: r for r in legacy_rows()}
+    names = {n for n in api.__all__ if n.startswith("simx") and not n.startswith("simx_")}
+    assert set(legacy) == names and len(names) >= 133  # every function of CoppeliaSim's sim.py
+    assert legacy["simxCreateDummy"].status.startswith("via sim.createDummy")
+    assert (
+        legacy["simxGetJointPosition"].status == "emulated" and legacy["simxGetJointPosition"].wire
+    )
+    assert legacy["simxDisplayDialog"].status == "not supported"
+    zmq = {r.name for r in zmq_rows()}
+    assert {"sim.loadScene", "sim.createDummy", "sim.moveToConfig", "sim.step"} <= zmq
+    docs = (REPO / "docs" / "remote-api.md").read_text(encoding="utf-8")
+    missing = [n for n in [*legacy, *zmq] if f"| `{n}` |" not in docs]
+    assert not missing, (
+        f"docs/remote-api.md lacks {missing}: run python -m sims.remote_api.functions --markdown"
+    )
