@@ -9,6 +9,8 @@ import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
 from sims.remote_api.cli import main, split_script_args
 from sims.remote_api.runner import RunResult, run_script, speed_note
 
@@ -272,3 +274,22 @@ def test_function_listing_covers_every_function_and_the_docs_name_them():
     assert not missing, (
         f"docs/remote-api.md lacks {missing}: run python -m sims.remote_api.functions --markdown"
     )
+
+
+@pytest.mark.needs_shared("data", "scenes", "course", "Scene_CheckPoint1.ttt")
+def test_the_camera_follows_a_visible_robot_not_an_invisible_part():
+    """--record's camera (World.model.robot): the UR3 arm, not the invisible cup it stands by;
+    a scene where nothing is jointed: a visible shape of its own, not a camera or the floor."""
+    from shared_data import shared
+
+    from sims.world import World
+
+    folder = shared("data", "scenes", "course")
+    for name, expected in (
+        ("Scene_CheckPoint1.ttt", "UR3"),
+        ("fanuc_m710ic_50_pick_and_place.ttt", "Shape"),
+    ):
+        with World(str(folder / name)) as world:
+            assert world.model.robot == expected, name
+    with World("2w1a") as world:
+        assert world.model.robot == "2W1A"
