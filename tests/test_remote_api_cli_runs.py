@@ -293,3 +293,25 @@ def test_the_camera_follows_a_visible_robot_not_an_invisible_part():
             assert world.model.robot == expected, name
     with World("2w1a") as world:
         assert world.model.robot == "2W1A"
+
+
+def test_the_zmq_examples_scenes_are_what_the_project_writes():
+    """sims/scene/bundled/scenes/messaging/ holds exactly what example_scenes.py writes, and
+    each scene has the objects CoppeliaSim's examples name."""
+    from sims.remote_api.example_scenes import OUT, texts
+    from sims.remote_api.zmq.paths import Tree, resolve
+    from sims.world import World
+
+    for name, text in texts().items():
+        assert (OUT / name).read_text(encoding="utf-8") == text, f"regenerate {name}"
+    wanted = {
+        "pControllerViaRemoteApi": ["/Cuboid[0]/joint"],
+        "synchronousImageTransmissionViaRemoteApi": ["/VisionSensor", "/PassiveVisionSensor"],
+        "movementViaRemoteApi": ["/greenRobot/target"]
+        + [f"/{c}Robot/joint{{{i}}}" for c in ("blue", "red") for i in range(7)],
+    }
+    for name, paths in wanted.items():
+        with World(str(OUT / f"{name}.simscene.xml")) as world:
+            tree = Tree(world.tree())
+            for path in paths:
+                assert resolve(tree, path) is not None, (name, path)
