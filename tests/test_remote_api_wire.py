@@ -326,3 +326,33 @@ def test_a_course_checkpoint_script_in_its_own_old_numpy(cache, tmp_path):
     # -72) degrees from the arms' start (all joints at 0 in the scene)
     expected = [-30, 30, 30, -30, -45, 45, 45, -45, 60, 0, 90, -72]
     assert [round(math.degrees(v)) for v in thetas[12:]] == expected, thetas
+
+
+HOME_POSE = "-0.194\n0\n0.6511\n0\n-90\n0\n" * 3  # the UR3's end pose at zero joint angles
+
+
+@pytest.mark.needs_shared("data", "scenes", "course2", "Scene_CheckPoint3.py")
+def test_the_course2_checkpoint_script_with_its_poses_on_stdin(cache, tmp_path):
+    """Scene_CheckPoint3.py asks for three goal poses (input()), solves its own inverse
+    kinematics with the helper's ragged arrays and sends the joint angles. Its solver's
+    np.linalg.inv of those object arrays fails in every numpy (1.16, 1.18, 1.23 tried) as soon
+    as it has to iterate, so the poses given are the arm's home pose, which it accepts as is."""
+    from shared_data import shared
+
+    folder = shared("data", "scenes", "course2")
+    python = python_env(cache, "numpy-1.23", ["numpy<1.24", "scipy<1.12", "transforms3d"])
+    poses = tmp_path / "poses.txt"
+    poses.write_text(HOME_POSE, encoding="utf-8")
+    done = subprocess.run(
+        [sys.executable, "-m", "sims.remote_api", "run", str(folder / "Scene_CheckPoint3.py"),
+         "--scene", str(folder / "Scene_CheckPoint3.ttt"), "--python", str(python),
+         "--stdin", str(poses)],
+        capture_output=True, text=True, timeout=300, cwd=REPO,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.count("P_final [-0.194   0.      0.6511]") == 3
+    thetas = [
+        float(line.rsplit("=", 1)[1]) for line in done.stdout.splitlines() if "theta =" in line
+    ]
+    assert len(thetas) == 18 and all(abs(t) < 0.01 for t in thetas[-6:])  # held where commanded
+    assert "connections (served on loopback): 127.0.0.1:19997" in done.stderr

@@ -63,10 +63,31 @@ def interpreter_problem(python: str) -> str | None:
     return None
 
 
+class _Locked:
+    """A text stream whose writes hold one lock shared by all the run's streams: the script's
+    output pumps and the server's threads write from several threads, and the isolated child
+    relays every stream through one pipe that must not get two messages at once."""
+
+    def __init__(self, stream: Any, lock: threading.Lock):
+        self.stream, self.lock = stream, lock
+
+    def write(self, text: str) -> int:
+        with self.lock:
+            n = self.stream.write(text)
+            self.stream.flush()
+        return n
+
+    def flush(self) -> None:
+        with self.lock:
+            self.stream.flush()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
+
+
 def _pump(stream: Any, target: Any) -> None:
     for line in iter(stream.readline, ""):
         target.write(line)
-        target.flush()
 
 
 def run_foreign(
@@ -88,7 +109,6 @@ def run_foreign(
 ):
     """Run ``script`` in ``python`` against a server holding ``scene``; returns a RunResult."""
     from .runner import RunResult
-    from .serve import serving
 
     label = str(script)
     path = Path(script).resolve()
@@ -101,6 +121,29 @@ def run_foreign(
         result.exit_code, result.message = 2, problem
         return result
     bring_up_loopback()
+    lock = threading.Lock()
+    saved_streams = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = _Locked(sys.stdout, lock), _Locked(sys.stderr, lock)
+    stderr = _Locked(stderr, lock) if stderr is not None else sys.stderr
+    try:
+        return _run_foreign(script, scene, python, path, label, result, stderr, **kwargs_of(
+            seed=seed, server=server, after=after, timeout=timeout, wall_timeout=wall_timeout,
+            argv=argv, speed=speed, world=world, on_pass=on_pass, scene_options=scene_options,
+        ))  # fmt: skip
+    finally:
+        sys.stdout, sys.stderr = saved_streams
+
+
+def kwargs_of(**kwargs: Any) -> dict[str, Any]:
+    return kwargs
+
+
+def _run_foreign(
+    script, scene, python, path, label, result, stderr, *, seed, server, after, timeout,
+    wall_timeout, argv, speed, world, on_pass, scene_options,
+):  # fmt: skip
+    from .serve import serving
+
     limit = wall_timeout if wall_timeout is not None else timeout
     started = real_monotonic()
     stopped: list[BaseException] = []

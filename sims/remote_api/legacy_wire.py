@@ -131,6 +131,9 @@ class LegacyWire:
             self.threads.append(t)
 
     def _serve(self, conn: socket.socket, port: int) -> None:
+        from .client import SERVING
+
+        SERVING.label = f"legacy client on port {port}"
         session = self.session
         with session.lock:
             session.simulator.choose_server(port)

@@ -58,6 +58,10 @@ def decode(value: Any) -> Any:
                 return bytearray(base64.b64decode(inner))
             if key == "$t":
                 return tuple(decode(v) for v in inner)
+            if key == "$a":  # a numpy array of one value (a number to ctypes, a list to loops)
+                import numpy
+
+                return numpy.array(decode(inner))
         return {k: decode(v) for k, v in value.items()}
     return value
 
@@ -144,6 +148,9 @@ class Bridge:
             self.threads.append(t)
 
     def _serve(self, conn: socket.socket) -> None:
+        from .client import SERVING
+
+        SERVING.label = "the script (its own Python)"
         with contextlib.suppress(OSError, ValueError), conn.makefile("rb") as reader:
             while not self.stop_flag.is_set():
                 line = reader.readline(MAX_LINE + 1)

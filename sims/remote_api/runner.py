@@ -281,7 +281,10 @@ def _run_in_child(
         result = RunResult(label, scene, exit_code=code if code >= 0 else 128 - code)
         if code != 0:
             result.message = f"{label}: the script's process ended abruptly (status {code})"
-    result.isolation = outcome.isolation or result.isolation
+    if result.isolation.startswith("own Python") and outcome.isolation:
+        result.isolation = f"{result.isolation}; {outcome.isolation}"
+    else:
+        result.isolation = outcome.isolation or result.isolation
     return result
 
 

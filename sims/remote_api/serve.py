@@ -43,10 +43,10 @@ class _Ticker(threading.Thread):
     def run(self) -> None:
         sim = self.session.simulator
         while not self.stop_flag.is_set():
-            with self.session.lock:
-                sim.sync()
+            with self.session.lock:  # one pass at a time: clients get the lock in between
+                sim.sync(most=1)
                 wait = (sim.pass_dt - sim._debt) / sim.clock.scale
-            real_sleep(min(max(wait, 0.001), 0.05))
+            real_sleep(min(max(wait, 0.0005), 0.05))
 
 
 @contextlib.contextmanager

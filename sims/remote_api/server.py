@@ -36,6 +36,9 @@ DEFAULT_SERVER = {"2w1a": CONTINUOUS, "cart": TEMPORARY}
 CALL_COST = 0.001
 
 
+#: Passes a served (wall-clock) simulation may owe at most (see ``Simulator.sync``).
+MAX_BACKLOG = 4
+
 #: The port CoppeliaSim's continuous server listens on (remoteApiConnections.txt).
 CONTINUOUS_PORT = 19997
 
@@ -147,17 +150,24 @@ class Simulator:
         return float(self.world.time) if self.world is not None else 0.0
 
     # --- time --------------------------------------------------------------------------------
-    def sync(self) -> None:
-        """Catch the world up with the clock (the clock's listener)."""
+    def sync(self, most: int | None = None) -> None:
+        """Catch the world up with the clock (the clock's listener); at most ``most`` passes
+        (None: all it owes). A served simulation never owes more than ``MAX_BACKLOG`` passes:
+        on a machine too slow to keep pace it runs slower than the wall clock, as CoppeliaSim
+        does, instead of holding its clients back to catch up."""
         now = self.clock.now()
         elapsed, self._synced_at = now - self._synced_at, now
         if self.world is None or self.state != RUNNING or self.synchronous:
             self._debt = 0.0
             return
         self._debt += max(0.0, elapsed)
-        while self._debt >= self.pass_dt - 1e-9:
+        if self.served:
+            self._debt = min(self._debt, MAX_BACKLOG * self.pass_dt)
+        done = 0
+        while self._debt >= self.pass_dt - 1e-9 and (most is None or done < most):
             self._debt -= self.pass_dt
             self._pass()
+            done += 1
 
     def _pass(self) -> None:
         self.world.step(self.steps_per_pass)

@@ -88,6 +88,9 @@ class _Worker(threading.Thread):
         self.uuid = ""
 
     def run(self) -> None:
+        from ..client import SERVING
+
+        SERVING.label = "ZeroMQ client"
         push = self.wire.context.socket(self.wire.zmq.PUSH)
         push.setsockopt(self.wire.zmq.LINGER, 0)
         push.connect(self.wire.outbox_address)

@@ -27,6 +27,8 @@ def _encode(value):
         return [_encode(v) for v in value]
     if isinstance(value, dict):
         return {str(k): _encode(v) for k, v in value.items()}
+    if hasattr(value, "tolist") and getattr(value, "ndim", 0) >= 1 and value.size == 1:
+        return {"$a": _encode(value.tolist())}  # a one-value array: ctypes takes it as a number
     if hasattr(value, "tolist") and not isinstance(value, str):
         return _encode(value.tolist())
     if hasattr(value, "item") and not isinstance(value, str):
