@@ -120,22 +120,41 @@ def run_foreign(
     if problem:
         result.exit_code, result.message = 2, problem
         return result
-    bring_up_loopback()
     lock = threading.Lock()
     saved_streams = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = _Locked(sys.stdout, lock), _Locked(sys.stderr, lock)
     stderr = _Locked(stderr, lock) if stderr is not None else sys.stderr
     try:
-        return _run_foreign(script, scene, python, path, label, result, stderr, **kwargs_of(
-            seed=seed, server=server, after=after, timeout=timeout, wall_timeout=wall_timeout,
-            argv=argv, speed=speed, world=world, on_pass=on_pass, scene_options=scene_options,
-        ))  # fmt: skip
+        with contextlib.ExitStack() as stack:
+            from . import runner
+            from .isolate import thread_network_namespace
+
+            if not runner._in_child:  # a clip's run in the recorder's process: this thread,
+                # the server's threads and the script's process get a namespace of their own
+                if stack.enter_context(thread_network_namespace()):
+                    result.isolation = "own Python, over loopback in its own network namespace"
+            bring_up_loopback()
+            return _run_foreign(
+                script,
+                scene,
+                python,
+                path,
+                label,
+                result,
+                stderr,
+                seed=seed,
+                server=server,
+                after=after,
+                timeout=timeout,
+                wall_timeout=wall_timeout,
+                argv=argv,
+                speed=speed,
+                world=world,
+                on_pass=on_pass,
+                scene_options=scene_options,
+            )
     finally:
         sys.stdout, sys.stderr = saved_streams
-
-
-def kwargs_of(**kwargs: Any) -> dict[str, Any]:
-    return kwargs
 
 
 def _run_foreign(
