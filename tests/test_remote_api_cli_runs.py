@@ -296,7 +296,7 @@ def test_the_camera_follows_a_visible_robot_not_an_invisible_part():
 
 
 def test_the_zmq_examples_scenes_are_what_the_project_writes():
-    """sims/scene/bundled/scenes/messaging/ holds exactly what example_scenes.py writes, and
+    """sims/scene/bundled/messaging/ holds exactly what example_scenes.py writes, and
     each scene has the objects CoppeliaSim's examples name."""
     from sims.remote_api.example_scenes import OUT, texts
     from sims.remote_api.zmq.paths import Tree, resolve

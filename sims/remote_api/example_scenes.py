@@ -14,7 +14,10 @@ and what their comments describe; nothing of CoppeliaSim's scenes is copied:
   joints, all aliased ``joint``), and ``/greenRobot`` with a ``target`` dummy.
 
 ``python -m sims.remote_api.example_scenes`` writes them as ``.simscene.xml`` to
-``sims/scene/bundled/scenes/messaging/`` (tests check the files equal what this writes).
+``sims/scene/bundled/messaging/`` (tests check the files equal what this writes): with
+``stringparam_scenedefaultdir`` naming ``sims/scene/bundled`` (CoppeliaSim's scenes folder)
+and ``sim.loadScene`` reading ``X.simscene.xml`` for a missing ``X.ttt``, the examples' paths
+find them.
 """
 
 from __future__ import annotations
@@ -34,7 +37,8 @@ from sims.scene.model import (
     VisionSensorData,
 )
 
-OUT = Path(__file__).resolve().parents[1] / "scene" / "bundled" / "scenes" / "messaging"
+#: CoppeliaSim keeps these in its scenes folder, under messaging/; ours is sims/scene/bundled/
+OUT = Path(__file__).resolve().parents[1] / "scene" / "bundled" / "messaging"
 GREY, STEEL = (0.55, 0.57, 0.6), (0.75, 0.76, 0.78)
 
 

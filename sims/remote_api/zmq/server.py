@@ -177,9 +177,11 @@ class ZmqServer:
         if steppers and all(self.desired.get(u, -1) > sim.passes for u in steppers):
             sim.trigger()
 
-    def step(self) -> None:
-        """``sim.step()`` for the client whose request this is (see above)."""
-        uuid, sim = self.client_uuid, self.simulator
+    def step(self, uuid: str | None = None) -> None:
+        """``sim.step()`` for ``uuid`` (default: the client whose request this is; see above);
+        a blocking function that steps inside (``sim.moveToConfig``) calls it once per pass."""
+        uuid = self.client_uuid if uuid is None else uuid
+        sim = self.simulator
         if sim.world is None or sim.state != "running":
             sim.call(blocking=False)
             return
