@@ -37,6 +37,18 @@ LOOKUPS = frozenset({"sim.getObject", "sim.getObjectHandle"})
 
 WAIT_SLICE = 0.05  # s: a client waiting for a pass looks again at least this often
 
+#: Set in the ZeroMQ wire server's own thread while it answers a request inline: a ``sim.step``
+#: that would have to wait raises ``Park`` instead (zmq/wire.py answers it once the pass is done).
+INLINE = threading.local()
+
+
+class Park(Exception):
+    """``sim.step`` must wait for pass ``target``: the wire holds the reply until then."""
+
+    def __init__(self, uuid: str, target: int):
+        super().__init__(f"{uuid} waits for pass {target}")
+        self.uuid, self.target = uuid, target
+
 
 class ZmqError(Exception):
     """A request failed on the server side: the reply carries ``err``."""
@@ -192,6 +204,8 @@ class ZmqServer:
         elif not sim.served:
             sim.call(blocking=True)  # in process: the run's clock moves on to the next pass
             return
+        if sim.passes < target and getattr(INLINE, "on", False):
+            raise Park(uuid, target)  # the wire's own thread never waits: it parks the reply
         with self.cond:
             while (
                 sim.passes < target
@@ -243,6 +257,8 @@ class ZmqServer:
                     self.session.found_objects += 1
             except ZmqError as exc:
                 return {"err": str(exc)}
+            except Park:
+                raise
             except Exception as exc:  # a bad value deep in an argument: still the call's error
                 message = f"{type(exc).__name__}: {exc}. (in function '{func}')"
                 self.note("argument", message)

@@ -9,8 +9,10 @@ session's ``ZmqServer`` (the same one in-process scripts use), so both see the s
 Why a ROUTER socket where CoppeliaSim's add-on uses REP: a REQ client cannot tell them apart,
 and a ROUTER may hold one client's reply while it serves the others. That is what ``sim.step``
 needs with several stepping clients (CoppeliaSim's add-on has the client poll with
-``_*wait*_`` instead). Each client's requests run in a thread of its own (``_Worker``), in
-order; a request that waits (``sim.step``, a motion that steps) waits in that thread only.
+``_*wait*_`` instead). Requests are answered in the server's thread; a ``sim.step`` that must
+wait for the other stepping clients is parked (its reply sent once the pass is done), and a
+function that steps inside (``sim.moveToConfig``...) runs in a thread of the client's own
+(``_Worker``), in order, waiting there only.
 
 Limits (bad input never stops the server): a message larger than ``MAX_REQUEST`` bytes makes
 ZeroMQ drop that peer's connection (``MAXMSGSIZE``); a request that is not CBOR, not a map,
@@ -21,6 +23,7 @@ or has no ``func`` gets an ``err`` reply, as CoppeliaSim's add-on answers one; t
 from __future__ import annotations
 
 import contextlib
+import functools
 import itertools
 import queue
 import threading
@@ -30,11 +33,32 @@ from typing import Any
 from ..client import Session
 from ..server import CONTINUOUS_PORT
 from .functions import server_for
+from .server import INLINE, Park
 
 LOOPBACK = "127.0.0.1"
 DEFAULT_PORT = 23000  # CoppeliaSim's ZeroMQ remote API port (23001: its control port)
 MAX_REQUEST = 64 * 1024 * 1024  # bytes: a bigger message drops the connection (MAXMSGSIZE)
 POLL_MS = 50  # how often the serving thread looks at its stop flag
+PARKED_POLL_MS = 1  # ... and at the parked sim.step calls, while there are some
+
+#: Functions that may step the simulation inside (run in the client's own thread). sim.step is
+#: answered inline and parked when it must wait.
+MAY_WAIT = frozenset(
+    "sim.moveToConfig sim.moveToPose sim.wait sim.waitForSignal sim.switchThread sim.yield "
+    "sim.moveToConfig_step sim.moveToPose_step".split()
+)
+
+
+@functools.cache
+def _may_wait() -> frozenset[str]:
+    """The blocking functions of the sim.* table when it declares them, else ``MAY_WAIT``."""
+    try:
+        from sims.simapi.table import BLOCKING  # type: ignore[import-not-found]
+    except ImportError:
+        return MAY_WAIT
+    return MAY_WAIT | (frozenset(BLOCKING) - {"sim.step"})
+
+
 _IDS = itertools.count(1)
 
 
@@ -133,6 +157,7 @@ class ZmqWire:
         self.outbox = self.context.socket(zmq.PULL)
         self.outbox.bind(self.outbox_address)
         self.workers: dict[bytes, _Worker] = {}
+        self.parked: list[tuple[bytes, int]] = []  # sim.step replies waiting for their pass
         self.stop_flag = threading.Event()
         self.failure: BaseException | None = None
         self.thread = threading.Thread(target=self._serve, name="zmq-wire", daemon=True)
@@ -148,7 +173,7 @@ class ZmqWire:
         poller.register(self.outbox, zmq.POLLIN)
         try:
             while not self.stop_flag.is_set():
-                ready = dict(poller.poll(POLL_MS))
+                ready = dict(poller.poll(PARKED_POLL_MS if self.parked else POLL_MS))
                 if self.outbox in ready:
                     while True:
                         try:
@@ -163,18 +188,50 @@ class ZmqWire:
                         except zmq.Again:
                             break
                         self._dispatch(frames)
+                self._release_parked()
         except BaseException as exc:  # surfaced by stop()
             self.failure = exc
 
     def _dispatch(self, frames: list[bytes]) -> None:
+        """Answer a request here (most are quick), park a ``sim.step`` that must wait for the
+        other clients, and hand a function that may step inside to the client's own thread."""
         if len(frames) != 3 or frames[1] != b"":  # not a REQ envelope: nothing to answer
             return
         identity, raw = frames[0], frames[2]
-        worker = self.workers.get(identity)
-        if worker is None:
-            worker = self.workers[identity] = _Worker(self, identity)
-            worker.start()
-        worker.inbox.put(raw)
+        request = decode(raw)
+        if isinstance(request, dict) and request.get("func") in _may_wait():
+            worker = self.workers.get(identity)
+            if worker is None:
+                worker = self.workers[identity] = _Worker(self, identity)
+                worker.start()
+            worker.inbox.put(raw)
+            return
+        if isinstance(request, str):
+            reply: dict[str, Any] = {"err": request}
+        else:
+            INLINE.on = True
+            try:
+                reply = answer(self.session, request)
+            except Park as park:
+                self.parked.append((identity, park.target))
+                return
+            except Exception as exc:  # never let one client take the server down
+                reply = {"err": f"internal error: {type(exc).__name__}: {exc}"}
+            finally:
+                INLINE.on = False
+        self.socket.send_multipart([identity, b"", encode(reply)])
+
+    def _release_parked(self) -> None:
+        """Answer the parked ``sim.step`` calls whose pass has happened (or cannot come)."""
+        if not self.parked:
+            return
+        sim = self.session.simulator
+        with self.session.lock:
+            done = sim.state != "running" or sim.world is None
+            ready = [p for p in self.parked if done or sim.passes >= p[1]]
+        for item in ready:
+            self.parked.remove(item)
+            self.socket.send_multipart([item[0], b"", encode({"ret": [None]})])
 
     def stop(self) -> None:
         self.stop_flag.set()
