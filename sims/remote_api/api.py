@@ -11,10 +11,11 @@ import sims.quiet as _quiet  # noqa: F401  (pybullet's banner silenced before th
 from . import constants as _constants
 from . import extras as _extras
 from . import functions_objects as _objects
+from . import functions_params as _params
 from . import functions_scene as _scene
 from . import functions_session as _session
 
-for _module in (_constants, _session, _objects, _extras, _scene):
+for _module in (_constants, _session, _objects, _extras, _scene, _params):
     for _name in dir(_module):
         if _name.startswith(("simx", "sim_")):
             globals()[_name] = getattr(_module, _name)

@@ -194,48 +194,10 @@ def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int
     if args.command == "functions":
         return _functions()  # -q/-v: the lists are the command's data, printed either way
     if args.command == "serve":
-        return _serve(args)
+        from .serve import serve_command
+
+        return serve_command(args, _check_scene(args.scene), is_bundled_name(args.scene))
     return _run(args)
-
-
-def _serve(args: argparse.Namespace) -> int:
-    """Serve until Ctrl+C (or ``--for`` seconds)."""
-    from .clock import real_sleep
-    from .serve import LEGACY_PORTS, serving
-
-    problem = _check_scene(args.scene)
-    if problem:
-        print(f"error: {problem}", file=sys.stderr)
-        return 2
-    scene = args.scene if is_bundled_name(args.scene) else str(Path(args.scene).resolve())
-    ports = tuple(args.legacy_port or LEGACY_PORTS)
-    try:
-        with serving(
-            scene,
-            seed=args.seed,
-            speed=args.speed,
-            server=args.server,
-            zmq_port=args.zmq_port,
-            legacy_ports=ports,
-        ) as served:
-            if args.verbosity >= 0:
-                print(
-                    f"[remote-api] serving {Path(scene).name} on 127.0.0.1: ZeroMQ "
-                    f"{served.zmq_port}, legacy {', '.join(map(str, served.legacy_ports))} "
-                    "(Ctrl+C stops)",
-                    file=sys.stderr,
-                    flush=True,
-                )
-            left = args.duration
-            while left is None or left > 0:
-                real_sleep(0.2 if left is None else min(0.2, left))
-                left = None if left is None else left - 0.2
-    except OSError as exc:
-        print(f"error: cannot serve on 127.0.0.1: {exc.strerror or exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        pass
-    return 0
 
 
 def _functions() -> int:

@@ -97,3 +97,43 @@ def serving(
         ticker.join(timeout=2.0)
         set_session(previous)
         session.close()
+
+
+def serve_command(args: Any, problem: str | None, bundled: bool) -> int:
+    """``sitegen remote-api serve``: serve until Ctrl+C (or ``--for`` seconds). ``problem``:
+    why the scene cannot be loaded (None: it can); ``bundled``: it is a bundled name."""
+    import sys
+    from pathlib import Path
+
+    if problem:
+        print(f"error: {problem}", file=sys.stderr)
+        return 2
+    scene = args.scene if bundled else str(Path(args.scene).resolve())
+    ports = tuple(args.legacy_port or LEGACY_PORTS)
+    try:
+        with serving(
+            scene,
+            seed=args.seed,
+            speed=args.speed,
+            server=args.server,
+            zmq_port=args.zmq_port,
+            legacy_ports=ports,
+        ) as served:
+            if args.verbosity >= 0:
+                print(
+                    f"[remote-api] serving {Path(scene).name} on 127.0.0.1: ZeroMQ "
+                    f"{served.zmq_port}, legacy {', '.join(map(str, served.legacy_ports))} "
+                    "(Ctrl+C stops)",
+                    file=sys.stderr,
+                    flush=True,
+                )
+            left = args.duration
+            while left is None or left > 0:
+                real_sleep(0.2 if left is None else min(0.2, left))
+                left = None if left is None else left - 0.2
+    except OSError as exc:
+        print(f"error: cannot serve on 127.0.0.1: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        pass
+    return 0
