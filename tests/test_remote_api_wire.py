@@ -15,6 +15,7 @@ import socket
 import struct
 import subprocess
 import sys
+import textwrap
 import threading
 import time
 from pathlib import Path
@@ -363,4 +364,65 @@ def test_the_course2_checkpoint_script_with_its_poses_on_stdin(cache, tmp_path):
         tail = done.stderr.strip().splitlines()
         assert any('Scene_CheckPoint3.py", line 457' in line for line in tail), tail[-12:]
         assert "inv" in done.stderr and "dtype('O')" in done.stderr
+    assert "connections (served on loopback): 127.0.0.1:19997" in done.stderr
+
+
+SIM_PY_WITH_LIBRARY = """\
+# a sim.py of the script's own that loads remoteApi.so beside it, as CoppeliaSim's does
+import ctypes as ct, os
+lib = ct.CDLL(os.path.join(os.path.dirname(os.path.abspath(__file__)), "remoteApi.so"))
+lib.simxStart.argtypes = [ct.c_char_p, ct.c_int32, ct.c_ubyte, ct.c_ubyte, ct.c_int32, ct.c_int32]
+lib.simxGetObjectHandle.argtypes = [ct.c_int32, ct.c_char_p, ct.POINTER(ct.c_int32), ct.c_int32]
+lib.simxGetJointPosition.argtypes = [ct.c_int32, ct.c_int32, ct.POINTER(ct.c_float), ct.c_int32]
+lib.simxSetJointTargetPosition.argtypes = [ct.c_int32, ct.c_int32, ct.c_float, ct.c_int32]
+simx_opmode_blocking = 0x010000
+def simxStart(a, p, w, d, t, c):
+    return lib.simxStart(a.encode(), p, w, d, t, c)
+def simxGetObjectHandle(cid, name, mode):
+    h = ct.c_int32()
+    return lib.simxGetObjectHandle(cid, name.encode(), ct.byref(h), mode), h.value
+def simxGetJointPosition(cid, h, mode):
+    v = ct.c_float()
+    return lib.simxGetJointPosition(cid, h, ct.byref(v), mode), v.value
+simxSetJointTargetPosition = lib.simxSetJointTargetPosition
+simxSynchronous = lib.simxSynchronous
+simxSynchronousTrigger = lib.simxSynchronousTrigger
+simxStartSimulation = lib.simxStartSimulation
+simxFinish = lib.simxFinish
+"""
+
+
+def test_python_run_uses_the_client_library_beside_the_script(cache, tmp_path):
+    """--python: a script whose folder holds sim.py and a Linux remoteApi.so talks to the
+    legacy server over TCP with them (inside the run's own network namespace)."""
+    import shutil
+
+    shutil.copyfile(extapi_library(cache), tmp_path / "remoteApi.so")
+    (tmp_path / "sim.py").write_text(SIM_PY_WITH_LIBRARY, encoding="utf-8")
+    script = tmp_path / "arm.py"
+    script.write_text(
+        textwrap.dedent(
+            """\
+            import sim
+            cid = sim.simxStart('127.0.0.1', 19997, True, True, 5000, 5)
+            assert cid == 0, cid
+            rc, h = sim.simxGetObjectHandle(cid, 'ShoulderMotor', sim.simx_opmode_blocking)
+            sim.simxSynchronous(cid, 1)
+            sim.simxStartSimulation(cid, sim.simx_opmode_blocking)
+            sim.simxSetJointTargetPosition(cid, h, 2.0, sim.simx_opmode_blocking)
+            for _ in range(40):
+                sim.simxSynchronousTrigger(cid)
+            print('angle', round(sim.simxGetJointPosition(cid, h, sim.simx_opmode_blocking)[1], 3))
+            sim.simxFinish(cid)
+            """
+        ),
+        encoding="utf-8",
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "sims.remote_api", "run", str(script), "--scene", "2w1a",
+         "--python", sys.executable],
+        capture_output=True, text=True, timeout=120, cwd=REPO,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert "angle 2.0" in done.stdout
     assert "connections (served on loopback): 127.0.0.1:19997" in done.stderr
