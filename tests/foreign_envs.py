@@ -1,7 +1,8 @@
 """Python environments and client libraries the remote API transport tests need from PyPI.
 
-They are built once per machine in pytest's cache folder (``.pytest_cache/d/...``) and reused;
-a test that cannot have one (no network, PyPI unreachable) is skipped, saying why.
+They are built once per machine in a cache folder (``$SITEGEN_TEST_CACHE``, else
+``~/.cache/sitegen-tests``; CI runs pytest without its own cache) and reused; a test that
+cannot have one (no network, PyPI unreachable) is skipped, saying why.
 """
 
 from __future__ import annotations
@@ -17,6 +18,15 @@ import pytest
 #: CoppeliaSim's legacy client library (extApi.c) compiled into a wheel on PyPI: DQ Robotics'
 #: V-REP interface links it and exports its simx* C functions unchanged.
 EXTAPI_WHEEL = "dqrobotics-interface-coppeliasim-vrep==0.25.6.24"
+
+
+def cache_dir() -> Path:
+    import os
+
+    folder = Path(os.environ.get("SITEGEN_TEST_CACHE") or Path.home() / ".cache" / "sitegen-tests")
+    folder = folder / "remote-api-foreign"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
 
 
 def _run(cmd: list[str], what: str, timeout: float = 600) -> None:

@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 import pytest
-from foreign_envs import extapi_library, python_env
+from foreign_envs import cache_dir, extapi_library, python_env
 
 from sims.remote_api import api
 from sims.remote_api import legacy_codec as codec
@@ -35,8 +35,8 @@ B, STREAM, BUF = api.simx_opmode_blocking, api.simx_opmode_streaming, api.simx_o
 
 
 @pytest.fixture(scope="module")
-def cache(request) -> Path:
-    return Path(request.config.cache.mkdir("remote-api-foreign"))
+def cache() -> Path:
+    return cache_dir()
 
 
 class CSim:
