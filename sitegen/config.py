@@ -55,6 +55,9 @@ class ClipConfig:
     camera: str = "follow"  # follow (chase camera) or overview (fixed, whole path; sims/camera.py)
     trail: bool = False  # draw the path travelled so far on the floor
     title: str | None = None  # gallery heading and caption link text (default: the name)
+    keys: Path | None = None  # script clips: key presses for `import keyboard` (--keys format)
+    args: tuple[str, ...] = ()  # script clips: the script's arguments (sys.argv[1:])
+    python: str | None = None  # script clips: run the script in this interpreter (--python)
 
 
 @dataclass(frozen=True)
@@ -180,7 +183,11 @@ _CLIP = {
     "camera": "str",
     "trail": "bool",
     "title": "str",
+    "keys": "str",
+    "args": "list",
+    "python": "str",
 }
+_SCRIPT_ONLY = ("keys", "args", "python")
 
 
 def _values(ck: _Checker, nodes: dict[str, yaml.Node], schema: dict[str, str], prefix: str) -> dict:
@@ -332,7 +339,8 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
         else:
             for i, item in enumerate(nodes["clips"].value):
                 where = f"sims.clips[{i}]"
-                cv = _values(ck, ck.keys(item, where, _CLIP), _CLIP, where + ".")
+                item_keys = ck.keys(item, where, _CLIP)
+                cv = _values(ck, item_keys, _CLIP, where + ".")
                 if not _require(ck, item, cv, "name", where):
                     continue
                 if ("scenario" in cv) == ("script" in cv):
@@ -343,6 +351,12 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                     continue
                 if "script" in cv:
                     cv["script"] = root / cv["script"]
+                extra = [k for k in _SCRIPT_ONLY if k in item_keys]
+                if extra and "script" not in cv:
+                    ck.fail(item, f"{where}.{extra[0]}", "applies to 'script' clips only")
+                    continue
+                if not _script_extras(ck, item_keys, cv, root, where):
+                    continue
                 if "speed" in cv and not 1 <= cv["speed"] <= 100:
                     ck.fail(item, f"{where}.speed", "must be a number from 1 to 100")
                     continue
@@ -355,6 +369,29 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 clips.append(ClipConfig(**cv))
     kwargs["clips"] = tuple(clips)
     return SimsConfig(**kwargs)
+
+
+def _script_extras(ck: _Checker, nodes: dict, cv: dict, root: Path, where: str) -> bool:
+    """A script clip's ``keys:`` (a key file inside the project), ``args:`` (a list of
+    strings) and ``python:`` (an interpreter: a command name, or a path inside the project)."""
+    import yaml
+
+    if "args" in nodes:
+        node = nodes["args"]
+        items = node.value if isinstance(node, yaml.SequenceNode) else None
+        if items is None or not all(isinstance(i, yaml.ScalarNode) for i in items):
+            ck.fail(node, f"{where}.args", "must be a list of strings")
+            return False
+        cv["args"] = tuple(str(i.value) for i in items)
+    if "keys" in cv:
+        keys = root / cv["keys"]
+        if not keys.is_file():
+            ck.fail(nodes["keys"], f"{where}.keys", f"no such key file: {cv['keys']}")
+            return False
+        cv["keys"] = keys
+    if "python" in cv and ("/" in cv["python"] or "\\" in cv["python"]):
+        cv["python"] = str(root / cv["python"])
+    return True
 
 
 def load_config(root: Path) -> Config:

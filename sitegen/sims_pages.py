@@ -67,7 +67,7 @@ class SimsIntegration(Integration):
         h = hashlib.sha256(repr(self.sims).replace(str(self.config.root), ".").encode())
         h.update(_sims_code_digest().encode())
         for clip in self.sims.clips:
-            for path in (clip.script, self.config.root / (clip.scene or "")):
+            for path in (clip.script, self.config.root / (clip.scene or ""), clip.keys):
                 if path is not None and path.is_file():  # a script, a scene file
                     h.update(path.read_bytes())
         if getattr(self.opts, "retry_failed", False):
@@ -108,6 +108,12 @@ class SimsIntegration(Integration):
             params = {"scene": scene}
             if clip.after is not None:
                 params["after"] = clip.after
+            if clip.keys is not None:
+                params["keys"] = str(clip.keys.resolve())
+            if clip.args:
+                params["args"] = list(clip.args)
+            if clip.python:
+                params["python"] = clip.python
             return ClipSpec(
                 name=clip.name,
                 scenario=str(clip.script),

@@ -167,6 +167,7 @@ EXAMPLE_SCENES = {
     "rover_scene.py": str(REPO / "data" / "scenes" / "rover.simscene.xml"),
     "arm_random_moves.py": "2w1a",  # the site's clips (tests/test_sims_examples.py)
     "cart_velocity.py": "cart",
+    "scene_changes.py": "2w1a",
 }
 
 
@@ -180,7 +181,7 @@ def _run_example(name, capsys, **kw):
 def test_examples_cover_every_supported_function():
     used = set()
     for path in EXAMPLES.glob("*.py"):
-        used |= set(re.findall(r"\bsim\.(simx[A-Za-z]+)\b", path.read_text(encoding="utf-8")))
+        used |= set(re.findall(r"\bsim\.(simx[A-Za-z0-9]+)\b", path.read_text(encoding="utf-8")))
     functions = {n for n in api.__all__ if n.startswith("simx") and not n.startswith("simx_")}
     supported = functions - set(UNSUPPORTED)
     assert not supported - used, f"not shown by any example: {sorted(supported - used)}"
@@ -214,12 +215,27 @@ def test_example_error_codes(capsys):
     assert (out["oneshot error 1"], out["oneshot error 2"]) == ("1", "8")
     assert out["illegal opmode"] == "4"
     assert out["bad client id"] == "64"
-    assert out["unsupported"] == "(32, 0, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])"
+    assert out["unsupported"] == "(32, 0, 0)"
     assert out["unknown function"] == "32"
     assert out["missing signal"] == "(8, 0.0)"
     assert out["remote error bit set"] == "True"
-    assert "simxReadForceSensor is not supported" in err
+    assert "simxDisplayDialog is not supported" in err
     assert "simxTeleportRobot is not a legacy remote API function" in err
+
+
+def test_example_scene_changes(capsys):
+    """Every function there answers with a code (0 done, 8 not possible here), the 4.x names
+    answer as the old ones, and a query nobody answers times out (2)."""
+    out, _ = _run_example("scene_changes.py", capsys)
+    codes = {k: v.strip("()").split(",")[0].split()[0] for k, v in out.items()}
+    assert all(c in ("0", "8") for k, c in codes.items() if k != "query"), codes
+    for key in [k for k in out if k.endswith(" (4.x)")]:
+        base = key[: -len(" (4.x)")]
+        if base in out:
+            assert out[key] == out[base], key
+    assert out["query"] == "2 b''"
+    assert out["remove model"] == "8" and out["load scene"] == "8"  # nothing of that name
+    assert out["float parameter"] == "(0, 0.05000000074505806)"
 
 
 def test_example_synchronous(capsys):

@@ -241,12 +241,14 @@ def test_remote_errors(session, client):
 
 
 def test_unsupported_and_unknown_functions(session, client, capsys):
-    assert sim.simxCopyPasteObjects(client, [1], B) == (32, [])
-    assert sim.simxLoadScene(client, "x.ttt", 0, B) == 32
-    assert sim.simxLoadScene(client, "x.ttt", 0, B) == 32
+    assert sim.simxDisplayDialog(client, "t", "m", 0, "", None, None, B) == (32, 0, 0)
+    assert sim.simxTransferFile(client, "a", "b", 1000, B) == 32
+    assert sim.simxTransferFile(client, "a", "b", 1000, B) == 32
     assert sim.simxSomethingNew(client) == 32
     err = capsys.readouterr().err
-    assert err.count("simxLoadScene") == 1 and "simxSomethingNew" in err
+    assert err.count("simxTransferFile") == 1 and "simxSomethingNew" in err
+    # scene changes go through the sim.* table: a scene file that is not there is an error
+    assert sim.simxLoadScene(client, "x.ttt", 0, B) == 8
     with pytest.raises(AttributeError):
         sim.not_a_constant  # noqa: B018
 

@@ -191,7 +191,7 @@ def test_return_values_have_the_real_clients_shapes(tmp_path):
     assert v["alias"] == "left_m" and v["path"] == "/cart/left_m" and v["parent"] and v["kind"]
     assert len(v["joints"]) == 2 and v["version"] >= 40300
     # the shim wins over a real client installed on the machine
-    assert Path(v["module"]).parent == REPO / "sims" / "remote_api" / "shim"
+    assert REPO / "sims" / "remote_api" / "shim" in Path(v["module"]).parents
 
 
 def test_unknown_path_raises_with_the_script_line(tmp_path):

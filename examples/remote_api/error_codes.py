@@ -39,7 +39,10 @@ print("illegal opmode:", sim.simxGetObjectPosition(client, body, -1, 0x090000)[0
 print("bad client id:", sim.simxGetJointPosition(42, body, sim.simx_opmode_blocking)[0])
 
 # A function this emulation does not provide: local error flag (32), outputs shaped as usual.
-print("unsupported:", sim.simxReadForceSensor(client, body, sim.simx_opmode_blocking))
+print(
+    "unsupported:",
+    sim.simxDisplayDialog(client, "t", "m", 0, "", None, None, sim.simx_opmode_blocking),
+)
 # A name the legacy API never had: also the local error flag, never an AttributeError.
 print("unknown function:", sim.simxTeleportRobot(client, body))
 

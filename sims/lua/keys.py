@@ -23,6 +23,11 @@ from pathlib import Path
 POLL_COST = 0.002  # virtual seconds one keyboard poll takes
 
 
+class KeysEnded(KeyboardInterrupt):
+    """The scripted keyboard has no more key presses: raised in the script like the Ctrl+C
+    that ends it at a real keyboard. A run that ends this way ended as planned."""
+
+
 class KeysFileError(ValueError):
     """A keys file that cannot be used: the message names the file, line and field."""
 
@@ -95,11 +100,12 @@ def configure(script: KeyScript | None) -> None:
     _current = script or KeyScript((), 0.0)
 
 
-def poll(key: object, now: float) -> bool:
-    """``keyboard.is_pressed`` at ``now`` on the script's clock (the shim advances the clock by
-    ``POLL_COST`` first): KeyboardInterrupt once the keyboard is closed."""
+def pressed_at(key: object, now: float) -> bool:
+    """Whether ``key`` is held at ``now`` (the run's clock; ``keyboard.is_pressed`` in the shim
+    advances it by ``POLL_COST`` first); raises KeysEnded once the key file has ended (also for
+    a script in another Python, through sims/remote_api/rpc.py)."""
     if now >= _current.closes_at:
-        raise KeyboardInterrupt("the scripted keyboard (--keys) has no more key presses")
+        raise KeysEnded("the scripted keyboard (--keys) has no more key presses")
     return _current.pressed(str(key), now)
 
 

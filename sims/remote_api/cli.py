@@ -22,6 +22,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import sims.quiet  # noqa: F401  (pybullet imported silently before anything imports it)
 from located.verbosity import add_verbosity
 
 from .client import missing_report
@@ -102,6 +103,19 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         "--realtime", action="store_true", help="pace by the wall clock instead of virtual time"
     )
     run.add_argument(
+        "--python",
+        metavar="PATH",
+        help="run the script in this Python interpreter (its own packages, e.g. an older "
+        "numpy) against a served scene, over loopback sockets, on the wall clock",
+    )
+    run.add_argument(
+        "--speed",
+        type=_positive,
+        default=1.0,
+        metavar="X",
+        help="with --python: the simulation's clock runs X times the wall clock (default 1)",
+    )
+    run.add_argument(
         "--timeout",
         type=float,
         default=DEFAULT_TIMEOUT,
@@ -118,6 +132,31 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
     add_verbosity(run, "no summary line", "also the scene and seed before the run")
+    serve = sub.add_parser(
+        "serve",
+        help="serve a scene to real remote API clients (ZeroMQ and legacy) on 127.0.0.1",
+        description="Hold SCENE and serve CoppeliaSim's ZeroMQ remote API (port 23000) and "
+        "legacy remote API (ports 19997 and 19999) on 127.0.0.1 until interrupted. Stepping "
+        "clients are deterministic; a free-running simulation follows the wall clock.",
+    )
+    serve.add_argument("scene", metavar="SCENE", help="a bundled scene name or a scene file")
+    serve.add_argument("--seed", type=int, default=0, help="the scene's seed (default 0)")
+    serve.add_argument(
+        "--speed", type=_positive, default=1.0, metavar="X", help="clock speed (default 1)"
+    )
+    serve.add_argument("--server", choices=SERVER_KINDS, help="legacy server kind")
+    serve.add_argument("--zmq-port", type=int, default=23000, metavar="PORT")
+    serve.add_argument(
+        "--legacy-port",
+        type=int,
+        action="append",
+        metavar="PORT",
+        help="legacy remote API port (repeatable; default 19997 and 19999)",
+    )
+    serve.add_argument(
+        "--for", dest="duration", type=_positive, metavar="S", help="stop after S wall seconds"
+    )
+    add_verbosity(serve, "nothing but errors", "also each client")
     add_verbosity(
         sub.add_parser("functions", help="list the emulated and the unsupported simx functions"),
         "accepted as on every command; the lists are always printed",
@@ -126,35 +165,45 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     return parser
 
 
+def split_script_args(argv: list[str]) -> tuple[list[str], list[str]]:
+    """The command's own arguments and the script's: everything after the first ``--`` is the
+    script's, wherever the options stand (``run S --scene X --timeout 20 -- a b``)."""
+    if "--" in argv:
+        at = argv.index("--")
+        return argv[:at], argv[at + 1 :]
+    return argv, []
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, not {text}")
+    return value
+
+
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
-    args = _parser(prog).parse_args(argv)
+    own, extra = split_script_args(list(sys.argv[1:] if argv is None else argv))
+    args = _parser(prog).parse_args(own)
+    if args.command == "run":
+        args.script_args = [*args.script_args, *extra]
+    elif extra:
+        _parser(prog).error(f"unexpected arguments after --: {' '.join(extra)}")
     if args.command == "functions":
         return _functions()  # -q/-v: the lists are the command's data, printed either way
+    if args.command == "serve":
+        from .serve import serve_command
+
+        return serve_command(args, _check_scene(args.scene), is_bundled_name(args.scene))
     return _run(args)
 
 
 def _functions() -> int:
-    from . import api, extras
+    from .functions import main as list_functions
 
-    unsupported = set(extras.UNSUPPORTED)
-    names = sorted(n for n in api.__all__ if n.startswith("simx") and not n.startswith("simx_"))
-    supported = [n for n in names if n not in unsupported]
-    print(f"emulated ({len(supported)}):")
-    for n in supported:
-        print(f"  {n}")
-    print(f"not supported: return simx_return_local_error_flag ({len(unsupported)}):")
-    for n in sorted(unsupported):
-        print(f"  {n}")
-    from .zmq.functions import NOT_EMULATED, load
-
-    zmq_names = sorted(load())
-    print(f"ZeroMQ API (sim.*), emulated ({len(zmq_names)}):")
-    for n in zmq_names:
-        print(f"  {n}")
-    print(f"ZeroMQ API, not emulated: raise an error ({len(NOT_EMULATED)}):")
-    for n in sorted(NOT_EMULATED):
-        print(f"  {n}")
-    return 0
+    return list_functions([])
 
 
 def _scene_for(args: argparse.Namespace) -> str | None:
@@ -228,6 +277,8 @@ def _run(args: argparse.Namespace) -> int:
             after=args.after,
             timeout=args.timeout,
             argv=args.script_args,
+            python=args.python,
+            speed=args.speed,
         )
     finally:
         sys.stdin = saved_stdin
@@ -285,7 +336,16 @@ def record_clip(
     width, _, height = args.size.partition("x")
     out = Path(args.record)
     stem = out.with_suffix("") if out.suffix == ".webm" else out
-    params = {"scene": scene, "after": args.after, "server": args.server, "timeout": args.timeout}
+    params = {
+        "scene": scene,
+        "after": args.after,
+        "server": args.server,
+        "timeout": args.timeout,
+        "args": list(args.script_args),  # the recorded run is the same run: same arguments,
+        "keys": args.keys,  # same key presses and the same standard input
+        "stdin": args.stdin,
+        "python": getattr(args, "python", None),
+    }
     spec = ClipSpec(
         name=stem.name,
         scenario=str(Path(args.script).resolve()),

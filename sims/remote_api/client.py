@@ -57,10 +57,18 @@ class Missing:
     nearest: tuple[str, ...] = ()
 
 
+#: Where calls of this thread come from when it serves a client over a socket (its label).
+SERVING = threading.local()
+
+
 def script_site() -> str:
-    """``file:line`` of the innermost caller outside sitegen's own ``sims`` package."""
+    """``file:line`` of the innermost caller outside sitegen's own ``sims`` package (for a
+    thread serving a client over a socket: that client's label)."""
     from .clock import LIBRARY_DIR
 
+    label = getattr(SERVING, "label", None)
+    if label:
+        return label
     frame = sys._getframe(1)
     while frame is not None:
         name = frame.f_code.co_filename
@@ -86,6 +94,8 @@ def missing_report(missing: list) -> list[str]:
             # ZeroMQ (sim.*) calls raise; legacy simx* calls return the flag
             legacy = not m.what.startswith("sim.")
             how = "returned simx_return_local_error_flag" if legacy else "raised an error"
+            if legacy and "(needs sim." in m.what:  # carried out by the sim.* table
+                how = "returned simx_return_remote_error_flag"
             if m.what.startswith("Lua "):  # a scene script's call (sims/lua): returned nothing
                 how = "called by the scene's Lua script; returned nothing"
             lines.append(f"  {m.site}: {m.what} ({how})")
@@ -144,6 +154,7 @@ class Session:
         self._stderr = stderr
         self.lock = threading.RLock()
         self.missing: list[Missing] = []  # in call order, one per (kind, what, site)
+        self.found_objects = 0  # object look-ups by name or path that found something
         self.reset_hooks: list[Callable[[Session], None]] = []  # after a scene reset
 
     def _after_reset(self, _sim) -> None:

@@ -92,17 +92,21 @@ class VirtualClock(Clock):
 
 
 class WallClock(Clock):
-    """Real time: sleeping really sleeps, in slices, so the world keeps pace."""
+    """Real time: sleeping really sleeps, in slices, so the world keeps pace. ``scale`` > 1
+    runs the clock faster than the wall clock (2: two clock seconds per wall second)."""
 
     realtime = True
     slice = 0.02
 
-    def __init__(self, limit: float | None = None):
+    def __init__(self, limit: float | None = None, scale: float = 1.0):
         super().__init__(limit)
+        if not 0 < scale < float("inf"):
+            raise ValueError(f"clock scale must be a positive number, not {scale!r}")
+        self.scale = float(scale)
         self._start = real_monotonic()
 
     def now(self) -> float:
-        return real_monotonic() - self._start
+        return (real_monotonic() - self._start) * self.scale
 
     def advance(self, seconds: float) -> None:
         end = self.now() + max(0.0, seconds)
@@ -111,7 +115,7 @@ class WallClock(Clock):
             left = end - self.now()
             if left <= 0:
                 break
-            real_sleep(min(left, self.slice))
+            real_sleep(min(left / self.scale, self.slice))
             self._notify()
         self._notify()
 

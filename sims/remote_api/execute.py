@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import ctypes
 import numbers
+import operator
 from collections.abc import Callable
 from typing import Any
 
@@ -50,14 +51,29 @@ Run = Callable[[Any], tuple]
 
 # --- argument checks (ctypes raises ArgumentError for these in the real sim.py) ------------------
 def int_arg(value: Any, position: int) -> int:
+    """What ctypes' c_int takes: an int, or an object with ``__index__`` (numpy's integers)."""
     if isinstance(value, numbers.Integral):
         return int(value)
+    if not isinstance(value, (float, str, bytes)) and hasattr(type(value), "__index__"):
+        try:
+            return operator.index(value)
+        except TypeError:
+            pass
     raise ctypes.ArgumentError(f"argument {position}: TypeError: wrong type")
 
 
 def float_arg(value: Any, position: int) -> float:
+    """What ctypes' c_float takes: a number, or an object with ``__float__`` (a numpy scalar,
+    or a numpy array holding one value, as course scripts pass ``theta[0]``)."""
     if isinstance(value, numbers.Real):
         return float(value)
+    if not isinstance(value, (str, bytes)) and hasattr(type(value), "__float__"):
+        try:
+            if getattr(value, "size", None) == 1 and hasattr(value, "item"):
+                return float(value.item())  # what numpy < 2's __float__ did for any 1-value array
+            return float(value)
+        except (TypeError, ValueError):
+            pass
     raise ctypes.ArgumentError(f"argument {position}: TypeError: wrong type")
 
 

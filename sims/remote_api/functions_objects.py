@@ -34,6 +34,9 @@ def simxGetObjectHandle(clientID, objectName, operationMode):
             if session is not None:
                 session.note_missing("object", name, site, cmd.nearest_names(world, name))
             raise cmd.CommandError(f"object {name!r} does not exist")
+        session = current_session()
+        if session is not None:
+            session.found_objects += 1
         return (h,)
 
     code, out = execute(clientID, operationMode, ("handle", name), run, (0,))

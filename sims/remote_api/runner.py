@@ -28,10 +28,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from sims.lua.keys import KeysEnded
+
 from .client import Connection, Session, set_session
 from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
 from .isolate import run_isolated, thread_network_namespace
 from .script_fences import Watchdog, no_network, script_environment
+from .shim_finder import substitute_clients
 from .zmq import uses_zmq
 from .zmq.server import release_stepping
 
@@ -69,20 +72,34 @@ class RunResult:
     final_state: str = "stopped"  # the simulation's state when the run ended
     isolation: str = "in-process"  # how the run was fenced in (see isolate.py)
     missing: list[Any] = field(default_factory=list)  # client.Missing: names/functions lacking
+    keys_ended: bool = False  # ended by the end of its key file (--keys), as planned
 
     @property
     def ok(self) -> bool:
         return self.exit_code == 0
 
     def summary(self) -> str:
-        speed = self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
         addresses = ", ".join(sorted({f"{c.address}:{c.port}" for c in self.connections})) or "none"
         return (
             f"{self.script}: exit {self.exit_code}; simulated {self.sim_time:.2f} s in "
             f"{self.simulations} simulation(s); script clock {self.clock_time:.2f} s; wall "
-            f"{self.wall_time:.2f} s ({speed:.0f}x); connections asked for (recorded, not "
-            f"contacted): {addresses}"
+            f"{self.wall_time:.2f} s{speed_note(self.sim_time, self.wall_time)}; "
+            + (
+                f"connections (served on loopback): {addresses}"
+                if self.isolation.startswith("own Python")
+                else f"connections asked for (recorded, not contacted): {addresses}"
+            )
         ) + (f"; isolation: {self.isolation}" if self.isolation.endswith(" only") else "")
+
+
+def speed_note(sim_time: float, wall_time: float) -> str:
+    """`` (49x real time)``, `` (0.4x real time)``; nothing when no simulation ran or no time
+    passed (a missing script, a script that never started its simulation)."""
+    if sim_time <= 0 or wall_time <= 0:
+        return ""
+    speed = sim_time / wall_time
+    digits = 0 if speed >= 10 else 1 if speed >= 0.1 else 3
+    return f" ({speed:.{digits}f}x real time)"
 
 
 def _script_line(exc: BaseException, path: Path) -> int | None:
@@ -117,6 +134,8 @@ def run_script(
     trace: bool = True,
     wall_timeout: float | None = None,
     isolate: bool = True,
+    python: str | None = None,
+    speed: float = 1.0,
 ) -> RunResult:
     """Run ``script`` against ``scene``; see the module docstring. ``world``: drive this World
     (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass.
@@ -127,7 +146,10 @@ def run_script(
     (the default) the script runs in a child process (isolate.py) that is killed, with all it
     started, when the script ends or its wall-clock limit + ``after`` + KILL_GRACE pass. A run
     that drives the caller's ``world`` or calls ``on_pass`` needs the caller's objects and runs
-    in this process (the clip recorder's worker process is itself killable)."""
+    in this process (the clip recorder's worker process is itself killable).
+
+    ``python``: run the script in that interpreter against a served scene, over loopback
+    sockets on the wall clock (``speed`` scales it); see foreign.py."""
     label = str(script)
     for name, value in (("timeout", timeout), ("wall_timeout", wall_timeout)):
         if value is not None and not 0 < value < math.inf:
@@ -137,6 +159,25 @@ def run_script(
         # every other argument goes to the child as given (a new parameter needs no edit here)
         options = {k: v for k, v in locals().items() if k in _forwarded_parameters()}
         return _run_in_child(script, scene, options, stderr)
+    if python:  # the script in its own Python, over loopback sockets (foreign.py)
+        from .foreign import run_foreign
+
+        return run_foreign(
+            script,
+            scene,
+            python,
+            seed=seed,
+            server=server,
+            after=after,
+            timeout=timeout,
+            wall_timeout=wall_timeout,
+            argv=argv,
+            speed=speed,
+            stderr=stderr,
+            world=world,
+            on_pass=on_pass,
+            scene_options=scene_options,
+        )
     path = Path(script).resolve()
     err = stderr or sys.stderr
     result = RunResult(label, scene, exit_code=0)
@@ -167,6 +208,7 @@ def run_script(
     try:
         with contextlib.ExitStack() as stack:
             stack.enter_context(script_environment(path, argv, seed))
+            stack.enter_context(substitute_clients())
             stack.enter_context(patch_time(clock, tid))
             if not network:
                 stack.enter_context(no_network(tid, every_thread=_in_child))
@@ -174,6 +216,7 @@ def run_script(
                     cut = stack.enter_context(thread_network_namespace())
                     result.isolation = IN_PROCESS_NAMESPACE if cut else IN_PROCESS_GUARD
             _execute(path, label, clock, timeout, result, err, wall_timeout)
+            _check_scene_fits(session, result)
             clock.limit = None
             if after > 0 and sim.world is not None:
                 release_stepping(session)  # the ZeroMQ client is gone: the world runs free
@@ -238,7 +281,10 @@ def _run_in_child(
         result = RunResult(label, scene, exit_code=code if code >= 0 else 128 - code)
         if code != 0:
             result.message = f"{label}: the script's process ended abruptly (status {code})"
-    result.isolation = outcome.isolation or result.isolation
+    if result.isolation.startswith("own Python") and outcome.isolation:
+        result.isolation = f"{result.isolation}; {outcome.isolation}"
+    else:
+        result.isolation = outcome.isolation or result.isolation
     return result
 
 
@@ -272,6 +318,9 @@ def _execute(
             f"{_where(label, _script_line(exc, path))}: stopped: the script ran past "
             f"its time limit of {timeout if clock.timed_out else wall:g} s ({kind} time)"
         )
+    except KeysEnded:  # the key file ended: the run ended as planned (sims/lua/keys.py)
+        result.exit_code = 0
+        result.keys_ended = True
     except KeyboardInterrupt as exc:
         result.exit_code = 130
         result.message = f"{_where(label, _script_line(exc, path))}: interrupted"
@@ -282,6 +331,22 @@ def _execute(
         result.exit_code = 1
         result.message = f"{_where(label, _script_line(exc, path))}: {type(exc).__name__}" + (
             f": {text}" if text else ""
+        )
+
+
+WRONG_SCENE_EXIT = 3
+
+
+def _check_scene_fits(session: Session, result: RunResult) -> None:
+    """A script that ended well but found none of the objects it asked for ran on the wrong
+    scene: that is not a success (exit 3, as --strict would give)."""
+    asked = [m for m in session.missing if m.kind == "object"]
+    if result.exit_code == 0 and asked and session.found_objects == 0:
+        result.exit_code = WRONG_SCENE_EXIT
+        names = ", ".join(repr(m.what) for m in asked[:3]) + (", ..." if len(asked) > 3 else "")
+        result.message = (
+            f"{result.script}: none of the {len(asked)} object(s) the script asked for is in "
+            f"scene {Path(result.scene).name} ({names}): wrong --scene?"
         )
 
 

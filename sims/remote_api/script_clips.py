@@ -42,7 +42,9 @@ JOINTS = {
     "2w1a": (("ShoulderMotor", "ElbowMotor", "WristMotor"), "angle"),
     "cart": (("left_m", "right_m"), "speed"),
 }
-PARAMS = ("scene", "after", "server", "timeout")
+PARAMS = ("scene", "after", "server", "timeout", "args", "keys", "stdin", "python")
+#: Params naming files whose content is part of the run (and so of the clip's cache key).
+FILE_PARAMS = ("keys", "stdin")
 
 
 def guess_scene(text: str) -> str | None:
@@ -68,12 +70,31 @@ def resolve_params(script: Path, params: dict[str, Any]) -> dict[str, Any]:
     scene = params.get("scene") or guess_scene(script.read_text(encoding="utf-8", errors="replace"))
     if not scene:
         raise ValueError(f"{script.name}: cannot tell the scene from the script; set params.scene")
-    return {
+    args = params.get("args") or []
+    if not isinstance(args, (list, tuple)) or not all(isinstance(a, str) for a in args):
+        raise ValueError("params.args must be a list of strings (the script's sys.argv[1:])")
+    out = {
         "scene": str(scene),
         "after": float(params.get("after", 0.0) or 0.0),
         "server": params.get("server"),
         "timeout": float(params.get("timeout", DEFAULT_TIMEOUT) or DEFAULT_TIMEOUT),
+        "args": [str(a) for a in args],
+        "python": str(params["python"]) if params.get("python") else None,
     }
+    for key in FILE_PARAMS:
+        value = params.get(key)
+        if value:
+            path = Path(value).expanduser()
+            if not path.is_file():
+                raise ValueError(f"params.{key}: no such file: {value}")
+            out[key] = str(path.resolve())
+        else:
+            out[key] = None
+    if out["keys"]:
+        from sims.lua.keys import load
+
+        load(out["keys"])  # a malformed key file fails here, naming its line
+    return out
 
 
 def clock_limit(seconds: float) -> float:
@@ -110,16 +131,12 @@ def script_plan(spec: Any):
     if spec.seconds is not None:
         duration = float(spec.seconds)
     else:
-        digest = hashlib.sha256(script.read_bytes()).hexdigest()
-        duration = measure(
-            str(script),
-            digest,
-            params["scene"],
-            seed,
-            params["after"],
-            params["server"],
-            params["timeout"],
-        )
+        digest = hashlib.sha256(script.read_bytes())
+        for key in FILE_PARAMS:
+            if params[key]:
+                digest.update(Path(params[key]).read_bytes())
+        frozen = tuple(sorted((k, repr(v)) for k, v in params.items()))
+        duration = measure(str(script), digest.hexdigest(), seed, frozen)
     joints, quantity = JOINTS.get(params["scene"], ((), "angle"))
 
     def drive(world: Any, record: Any) -> None:
@@ -135,7 +152,7 @@ def script_plan(spec: Any):
         ),
         source_path=str(script),
         params=params,
-        hash_files=[str(script), *package_files()],
+        hash_files=[str(script), *run_files(params), *package_files()],
         drive=drive,
         joints=joints,
         joint_quantity=quantity,
@@ -143,29 +160,60 @@ def script_plan(spec: Any):
     )
 
 
+def run_files(params: dict[str, Any]) -> list[str]:
+    """The files besides the script that a run reads (key file, standard input)."""
+    return [params[k] for k in FILE_PARAMS if params.get(k)]
+
+
+@contextlib.contextmanager
+def run_inputs(params: dict[str, Any]):
+    """The key file and standard input of a run, in place while the block runs."""
+    import sys
+
+    from sims.lua import keys
+
+    keys.configure(keys.load(params["keys"]) if params.get("keys") else None)
+    saved = sys.stdin
+    feed = (
+        open(params["stdin"], encoding="utf-8")  # noqa: SIM115 (closed below)
+        if params.get("stdin")
+        else io.StringIO("")
+    )
+    sys.stdin = feed
+    try:
+        yield
+    finally:
+        sys.stdin = saved
+        feed.close()
+        keys.configure(None)
+
+
+def run_options(params: dict[str, Any]) -> dict[str, Any]:
+    """``run_script`` keyword arguments from resolved params."""
+    return {
+        "server": params["server"],
+        "after": params["after"],
+        "timeout": params["timeout"],
+        "argv": params.get("args") or (),
+        **({"python": params["python"]} if params.get("python") else {}),
+    }
+
+
 @lru_cache(maxsize=64)
-def measure(
-    script: str,
-    digest: str,
-    scene: str,
-    seed: int,
-    after: float,
-    server: str | None,
-    timeout: float,
-) -> float:
-    """Simulated seconds a silent run of the script takes (plus a small margin)."""
+def measure(script: str, digest: str, seed: int, frozen: tuple) -> float:
+    """Simulated seconds a silent run of the script takes (plus a small margin). ``digest``
+    covers the script and its input files; ``frozen`` is the resolved params (memo key)."""
     del digest  # part of the memo key only
+    params = resolve_params(Path(script), {k: _unrepr(v) for k, v in frozen})
     sink = io.StringIO()
-    with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+    with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink), run_inputs(params):
         result = run_script(
             script,
-            scene,
+            params["scene"],
             seed=seed,
-            server=server,
-            after=after,
-            timeout=timeout,
             trace=False,
             stderr=sink,
+            **run_options(params),
         )
     if not result.ok:
         raise RuntimeError(result.message or f"{Path(script).name} exited with {result.exit_code}")
@@ -201,14 +249,12 @@ def drive_script(world: Any, record: Any, script: Path, params: dict[str, Any], 
         record.set("simulation", float(sim.starts))
 
     out, err = _Lines(record, "stdout"), _Lines(record, "stderr")
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), run_inputs(params):
         result = run_script(
             script,
             params["scene"],
             seed=seed,
-            server=params["server"],
-            after=params["after"],
-            timeout=params["timeout"],
+            **run_options(params),
             world=world,
             on_pass=on_pass,
             trace=False,
@@ -227,3 +273,9 @@ def drive_script(world: Any, record: Any, script: Path, params: dict[str, Any], 
     if not result.ok:
         raise RuntimeError(result.message or f"{script.name} exited with {result.exit_code}")
     return result
+
+
+def _unrepr(text: str) -> Any:
+    import ast
+
+    return ast.literal_eval(text)

@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import sims.quiet  # noqa: F401  (pybullet's banner silenced before anything imports it)
 from sims.lua.attach import attach
 
 from .clock import Clock, WallClock
@@ -34,6 +35,9 @@ DEFAULT_SERVER = {"2w1a": CONTINUOUS, "cart": TEMPORARY}
 #: a small cost keeps busy-wait loops of buffer reads moving).
 CALL_COST = 0.001
 
+
+#: Passes a served (wall-clock) simulation may owe at most (see ``Simulator.sync``).
+MAX_BACKLOG = 4
 
 #: The port CoppeliaSim's continuous server listens on (remoteApiConnections.txt).
 CONTINUOUS_PORT = 19997
@@ -101,6 +105,9 @@ class Simulator:
         self.lua: Any = None  # sims.lua.ScriptHost running the scene's scripts, if it has any
         self.on_status: Callable[[str], None] | None = None  # set by the owning Session
         self.on_missing: Callable[[Any], None] | None = None  # an Unemulated Lua call
+        #: served to clients over sockets (``sitegen remote-api serve``): time is the wall
+        #: clock's, so a call costs no clock time and a blocking call does not wait for a pass
+        self.served = False
 
     # --- scene -------------------------------------------------------------------------------
     def choose_server(self, port: int) -> None:
@@ -143,17 +150,24 @@ class Simulator:
         return float(self.world.time) if self.world is not None else 0.0
 
     # --- time --------------------------------------------------------------------------------
-    def sync(self) -> None:
-        """Catch the world up with the clock (the clock's listener)."""
+    def sync(self, most: int | None = None) -> None:
+        """Catch the world up with the clock (the clock's listener); at most ``most`` passes
+        (None: all it owes). A served simulation never owes more than ``MAX_BACKLOG`` passes:
+        on a machine too slow to keep pace it runs slower than the wall clock, as CoppeliaSim
+        does, instead of holding its clients back to catch up."""
         now = self.clock.now()
         elapsed, self._synced_at = now - self._synced_at, now
         if self.world is None or self.state != RUNNING or self.synchronous:
             self._debt = 0.0
             return
         self._debt += max(0.0, elapsed)
-        while self._debt >= self.pass_dt - 1e-9:
+        if self.served:
+            self._debt = min(self._debt, MAX_BACKLOG * self.pass_dt)
+        done = 0
+        while self._debt >= self.pass_dt - 1e-9 and (most is None or done < most):
             self._debt -= self.pass_dt
             self._pass()
+            done += 1
 
     def _pass(self) -> None:
         self.world.step(self.steps_per_pass)
@@ -167,6 +181,9 @@ class Simulator:
         A blocking call while the simulation runs waits for the reply, which the server sends
         at its next simulation pass.
         """
+        if self.served:
+            self.last_reply_time = self.sim_time
+            return 0.0
         start = self.clock.now()
         if blocking and self.world is not None and self.state == RUNNING and not self.synchronous:
             wait = self.pass_dt - self._debt

@@ -300,23 +300,50 @@ def _model(scene: Scene, plan: _Planner, created: list[Created]) -> SceneModel:
 
 
 def _main_object(scene: Scene, plan: _Planner) -> tuple[str, float]:
-    """The object a camera follows: the base of the free body with the most links (else of the
-    biggest fixed body), and the size of what hangs on it."""
+    """The object a camera follows, and the size of what hangs on it: the base of a body one
+    can see (a body of invisible shapes only, such as a heavy counterweight, is never
+    followed), a jointed one (a robot) before a single free part (a cup, a ball), then a free
+    one before a fixed one, then the one with the most links."""
     if not scene.objects:
         raise ValueError(f"{scene.source or 'scene'}: the scene has no objects")
-    best, best_key = None, (-1, -1)
+    shown = {
+        at[0]
+        for h, at in plan.where.items()
+        if h in plan.table and plan.table[h].visible and plan.table[h].kind == "shape"
+    }
+    best, best_key = None, (-1, -1, -1)
     for b, body in enumerate(plan.bodies):
-        key = (0 if body.fixed else 1, len(body.links))
-        if len(body.links) > 1 or not body.fixed:
-            if key > best_key:
-                best, best_key = b, key
-    if best is None:
-        return scene.objects[0].name, 0.5
+        if b not in shown or (len(body.links) < 2 and body.fixed):
+            continue
+        key = (1 if len(body.links) > 1 else 0, 0 if body.fixed else 1, len(body.links))
+        if key > best_key:
+            best, best_key = b, key
+    if best is None:  # nothing moves under physics (a kinematic arm): the most jointed model
+        return _most_jointed(scene), 0.5
     handles = [h for h, at in plan.where.items() if at[0] == best]
     top = min(handles, key=lambda h: _depth(plan, h))
     origin = plan.full[top][0]
     extent = max(math.dist(origin, plan.full[h][0]) for h in handles)
     return plan.table[top].name, max(extent, 0.05)
+
+
+def _most_jointed(scene: Scene) -> str:
+    """The top object with the most joints below it (ties: the first; no joints: the first
+    visible top-level shape, then any visible shape, else the first object)."""
+    parent = {o.handle: o.parent for o in scene.objects}
+    count: dict[int, int] = {}
+    for o in scene.objects:
+        if o.kind == "joint":
+            up = o.parent
+            while up is not None and up in parent:
+                count[up] = count.get(up, 0) + 1
+                up = parent[up]
+    tops = [o for o in scene.objects if o.parent is None and count.get(o.handle)]
+    if tops:
+        return max(tops, key=lambda o: count[o.handle]).name
+    shapes = [o for o in scene.objects if o.kind == "shape" and o.visible]
+    top_shapes = [o for o in shapes if o.parent is None]
+    return (top_shapes or shapes or list(scene.objects))[0].name
 
 
 def _depth(plan: _Planner, handle: int) -> int:

@@ -3,7 +3,7 @@
 Only ``is_pressed`` is provided (what the course's scripts use); nothing reads the real keyboard.
 """
 
-from sims.lua.keys import POLL_COST, poll
+from sims.lua.keys import POLL_COST, pressed_at
 from sims.remote_api.client import current_session
 
 
@@ -14,4 +14,4 @@ def is_pressed(key: object) -> bool:
     clock = session.clock if session is not None else None
     if clock is not None:
         clock.advance(POLL_COST)
-    return poll(key, clock.now() if clock is not None else 0.0)
+    return pressed_at(key, clock.now() if clock is not None else 0.0)

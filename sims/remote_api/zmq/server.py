@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 import inspect
 import numbers
+import threading
 from typing import Any, NoReturn
 
 from ..client import Session, script_site
@@ -29,6 +30,24 @@ from ..commands import CommandError
 from . import paths
 from .constants import CONSTANTS
 from .registry import NOT_EMULATED
+
+#: Functions that look an object up by name or path (a success counts in Session.found_objects).
+LOOKUPS = frozenset({"sim.getObject", "sim.getObjectHandle"})
+
+
+WAIT_SLICE = 0.05  # s: a client waiting for a pass looks again at least this often
+
+#: Set in the ZeroMQ wire server's own thread while it answers a request inline: a ``sim.step``
+#: that would have to wait raises ``Park`` instead (zmq/wire.py answers it once the pass is done).
+INLINE = threading.local()
+
+
+class Park(Exception):
+    """``sim.step`` must wait for pass ``target``: the wire holds the reply until then."""
+
+    def __init__(self, uuid: str, target: int):
+        super().__init__(f"{uuid} waits for pass {target}")
+        self.uuid, self.target = uuid, target
 
 
 class ZmqError(Exception):
@@ -58,6 +77,13 @@ class ZmqServer:
         self.targets: dict[int, tuple[str, float]] = {}  # last joint target per handle
         self.client_uuid = ""  # the client whose request is being handled
         self._tree_cache: tuple[Any, tuple, paths.Tree] | None = None
+        self.desired: dict[str, int] = {}  # per stepping client: the pass it asked for
+        self.closing = False  # the wire server is shutting down: nobody waits for a pass
+        #: signalled after every simulation pass and scene reset (waiting clients look again)
+        self.cond = threading.Condition(session.lock)
+        if session.simulator is not None:
+            session.simulator.pass_observers.append(self._wake)
+            session.simulator.reset_observers.append(self._wake)
 
     # --- the World ------------------------------------------------------------------------
     @property
@@ -138,12 +164,63 @@ class ZmqServer:
             self.fail(kind, text, func)
 
     # --- stepping ---------------------------------------------------------------------------
+    # CoppeliaSim's ZeroMQ add-on: while any client steps, a simulation pass happens once every
+    # stepping client has asked for it (``sim.step``), and ``sim.step`` returns once that pass
+    # is done; a client that does not step waits in ``sim.step`` for the next pass. Clients in
+    # other threads (in process) or behind the wire server (one thread each) wait on ``cond``.
     def apply_stepping(self) -> None:
         sim = self.simulator
         stepped = any(level > 0 for level in self.stepping.values())
         if stepped != sim.synchronous:
             sim.sync()
             sim.synchronous = stepped
+        self.advance()  # a client that stopped stepping may have held the others
+
+    def _wake(self, _sim: Any = None) -> None:
+        with self.cond:
+            self.cond.notify_all()
+
+    def advance(self) -> None:
+        """Run the pass the stepping clients asked for, once all of them have."""
+        sim = self.simulator
+        if not sim.synchronous or sim.world is None or sim.state != "running":
+            return
+        steppers = [uuid for uuid, level in self.stepping.items() if level > 0]
+        if steppers and all(self.desired.get(u, -1) > sim.passes for u in steppers):
+            sim.trigger()
+
+    def step(self, uuid: str | None = None) -> None:
+        """``sim.step()`` for ``uuid`` (default: the client whose request this is; see above);
+        a blocking function that steps inside (``sim.moveToConfig``) calls it once per pass."""
+        uuid = self.client_uuid if uuid is None else uuid
+        sim = self.simulator
+        if sim.world is None or sim.state != "running":
+            sim.call(blocking=False)
+            return
+        target = sim.passes + 1
+        if self.stepping.get(uuid, 0) > 0 and sim.synchronous:
+            self.desired[uuid] = target
+            self.advance()
+        elif not sim.served:
+            sim.call(blocking=True)  # in process: the run's clock moves on to the next pass
+            return
+        if sim.passes < target and getattr(INLINE, "on", False):
+            raise Park(uuid, target)  # the wire's own thread never waits: it parks the reply
+        with self.cond:
+            while (
+                sim.passes < target
+                and sim.state == "running"
+                and sim.world is not None
+                and not self.closing
+            ):
+                self.cond.wait(WAIT_SLICE)  # in slices: the script's watchdog can still stop it
+            self.client_uuid = uuid
+
+    def end_client(self, uuid: str) -> None:
+        """A client left (``_*end*_``, its connection closed): it no longer holds the others."""
+        self.stepping.pop(uuid, None)
+        self.desired.pop(uuid, None)
+        self.apply_stepping()
 
     # --- requests ---------------------------------------------------------------------------
     def handle(self, request: dict[str, Any]) -> dict[str, Any]:
@@ -151,8 +228,8 @@ class ZmqServer:
         functions = self.functions
         func = str(request.get("func", ""))
         args = plain(list(request.get("args") or []))
-        self.client_uuid = str(request.get("uuid", ""))
         with self.session.lock:
+            self.client_uuid = str(request.get("uuid", ""))
             if self.simulator is None:
                 return {"err": "no scene is configured (in function '" + func + "')"}
             try:
@@ -176,13 +253,31 @@ class ZmqServer:
                 if func != "sim.step":
                     self.simulator.call(blocking=False)
                 ret = impl(self, *args)
+                if func in LOOKUPS and isinstance(ret, int) and ret >= 0:
+                    self.session.found_objects += 1
             except ZmqError as exc:
                 return {"err": str(exc)}
+            except Park:
+                raise
             except Exception as exc:  # a bad value deep in an argument: still the call's error
                 message = f"{type(exc).__name__}: {exc}. (in function '{func}')"
                 self.note("argument", message)
                 return {"err": message}
         return {"ret": list(ret) if isinstance(ret, tuple) else [ret]}
+
+    def call_function(self, func: str, args: list[Any]) -> Any:
+        """Call the ``sim.*`` function ``func`` for another API (the legacy ``simx*`` functions
+        that create, remove, re-parent or load): its return value, or ``ZmqError`` with
+        CoppeliaSim's message (also when the emulation lacks it)."""
+        impl = self.functions.get(func)
+        with self.session.lock:
+            if impl is None:
+                raise ZmqError(f"{func} is not emulated by sitegen. (in function '{func}')")
+            try:
+                _signature(impl).bind(self, *args)
+            except TypeError:
+                raise ZmqError(f"wrong number of arguments. (in function '{func}')") from None
+            return impl(self, *plain(list(args)))
 
     def info(self, name: str) -> dict[str, Any]:
         """``zmqRemoteApi.info``: the module's functions and constants, as the client expects."""

@@ -1,0 +1,5 @@
+"""``import simConst``: the legacy remote API's constants, from the sitegen server."""
+
+import _sitegen_bridge as _bridge
+
+globals().update(_bridge.hello()["constants"])
