@@ -139,8 +139,12 @@ class ReplayTape:
             points = path[idx].copy()
             points[:, 2] = TRAIL_Z
             track = Trail(points, times[idx])
-        cam = start_camera(path, self.camera_yaw, aspect)
+        cam = self.camera(aspect)
         return build_glb(nodes, cam, info, duration if len(frames) > 1 else None, track)
+
+    def camera(self, aspect: float) -> Camera:
+        """The replay's starting view (:func:`start_camera` on the followed object's path)."""
+        return start_camera(np.asarray(self.path, dtype=np.float64), self.camera_yaw, aspect)
 
     def write(self, path: str | Path, **kwargs: Any) -> None:
         Path(path).write_bytes(self.glb(**kwargs))

@@ -144,7 +144,9 @@ class _Builder:
                         POSITION=self.accessor(s.positions, G.VEC3, ARRAY_BUFFER, bounds=True),
                         NORMAL=self.accessor(s.normals, G.VEC3, ARRAY_BUFFER),
                     ),
-                    indices=self.accessor(s.indices.astype(index_type), G.SCALAR, ELEMENT_ARRAY_BUFFER),
+                    indices=self.accessor(
+                        s.indices.astype(index_type), G.SCALAR, ELEMENT_ARRAY_BUFFER
+                    ),
                     material=self.material(s.rgba),
                     mode=G.TRIANGLES,
                 )
@@ -218,7 +220,10 @@ def build_glb(
             )
         )
         children.append(index)
-        for path, keys in (("translation", node.translation_keys), ("rotation", node.rotation_keys)):
+        for path, keys in (
+            ("translation", node.translation_keys),
+            ("rotation", node.rotation_keys),
+        ):
             if keys is None:
                 continue
             times, values = keys
@@ -229,7 +234,8 @@ def build_glb(
             samplers.append(G.AnimationSampler(input=b.times(times), output=output))
             channels.append(
                 G.AnimationChannel(
-                    sampler=len(samplers) - 1, target=G.AnimationChannelTarget(node=index, path=path)
+                    sampler=len(samplers) - 1,
+                    target=G.AnimationChannelTarget(node=index, path=path),
                 )
             )
     if trail is not None and len(trail.points) >= 2:
@@ -248,7 +254,10 @@ def build_glb(
         G.Camera(
             type="perspective",
             perspective=G.Perspective(
-                yfov=math.radians(camera.yfov_deg), znear=0.01, zfar=100.0, aspectRatio=camera.aspect
+                yfov=math.radians(camera.yfov_deg),
+                znear=0.01,
+                zfar=100.0,
+                aspectRatio=camera.aspect,
             ),
         )
     )
