@@ -107,7 +107,7 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
     name = spec.label or spec.scenario
     params = portable_params(plan.params)
     scene = Path(plan.scene).name if Path(plan.scene).is_absolute() else plan.scene
-    title = f"{name} (seed {plan.seed}): path of {recording.subject}"
+    title = f"{name} · {plan.seed} · {recording.subject}"  # names only: any site language
     (out / FILES["plot"]).write_text(
         path_svg(recording.column("x"), recording.column("y"), title, recording.breaks),
         encoding="utf-8",

@@ -133,8 +133,8 @@ def path_svg(
                 f'<line x1="{LEFT + pw - 66}" y1="{ly - 4}" x2="{LEFT + pw - 50}" y2="{ly - 4}" '
                 f'{stroke} stroke-width="2"/>'
             )
-            out.append(_text(LEFT + pw - 46, ly, f"run {n + 1}", "start"))
-    out.append(_text(LEFT, HEIGHT - 10, "● start  □ end", "start"))
+            out.append(_text(LEFT + pw - 46, ly, f"#{n + 1}", "start"))
+    out.append(_text(LEFT, HEIGHT - 10, "● → □", "start"))
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
@@ -179,7 +179,7 @@ def _panel(
     mid = top + ph / 2
     out.append(_text(14, mid, unit, extra=f' transform="rotate(-90 14 {mid:.1f})"'))
     every = max(1, math.ceil(len(times) / MAX_POINTS))
-    legend_x = LEFT + 6
+    places = legend_places([name for name, _ in lines])
     for n, (name, vs) in enumerate(lines):
         pts = [
             f"{sx(t):.1f},{sy(v):.1f}"
@@ -191,12 +191,29 @@ def _panel(
                 f'<polyline points="{" ".join(pts)}" fill="none" {colour(first_colour + n)} '
                 'stroke-width="1.6" stroke-linejoin="round"/>'
             )
+        x, row = places[n]
+        y = top - 6 - LEGEND_ROW * (max(r for _, r in places) - row)
         out.append(
-            f'<line x1="{legend_x}" y1="{top + 12}" x2="{legend_x + 14}" y2="{top + 12}" '
+            f'<line x1="{x}" y1="{y - 4}" x2="{x + 14}" y2="{y - 4}" '
             f'{colour(first_colour + n)} stroke-width="3"/>'
         )
-        out.append(_text(legend_x + 18, top + 16, name, "start"))
-        legend_x += 26 + 8 * len(name)
+        out.append(_text(x + 18, y, name, "start"))
+
+
+LEGEND_ROW = 16
+CHAR = 7.5  # a generous average width of a 13-unit sans-serif character
+
+
+def legend_places(names: list[str]) -> list[tuple[float, int]]:
+    """(x, row) of each legend entry: rows above a panel, wrapped to the plot's width."""
+    out, x, row = [], float(LEFT), 0
+    for name in names:
+        width = 22 + CHAR * len(name)
+        if x > LEFT and x + width > WIDTH - RIGHT:
+            x, row = float(LEFT), row + 1
+        out.append((x, row))
+        x += width + 10
+    return out
 
 
 def series_svg(recording, fps: float) -> str:
@@ -213,24 +230,29 @@ def series_svg(recording, fps: float) -> str:
         unit = "deg" if joints[0].endswith("_deg") else "rad/s"
         names = [(c.removesuffix("_rad_s").removesuffix("_deg"), c) for c in joints]
         panels.append((unit, [(label, recording.column(c)) for label, c in names]))
-    gap = 18
-    height = TOP + len(panels) * SERIES_PANEL + (len(panels) - 1) * gap + BOTTOM
+    tops, y = [], 22.0  # each panel below its legend rows
+    for _, lines in panels:
+        rows = 1 + max(r for _, r in legend_places([name for name, _ in lines]))
+        y += LEGEND_ROW * rows + 6
+        tops.append(y)
+        y += SERIES_PANEL
+    bottom = y
+    height = int(bottom + BOTTOM)
     pw = WIDTH - LEFT - RIGHT
-    title = f"{recording.subject}: position and joints over time"
+    title = recording.subject
     extra = f' data-t-end="{t_end:g}" data-x0="{LEFT}" data-x1="{LEFT + pw}"'
     out = _open(WIDTH, height, title, extra)
     colours = 0
-    for n, (unit, lines) in enumerate(panels):
-        _panel(out, TOP + n * (SERIES_PANEL + gap), times, lines, unit, t_end, colours)
+    for top, (unit, lines) in zip(tops, panels, strict=True):
+        _panel(out, top, times, lines, unit, t_end, colours)
         colours += len(lines)
-    bottom = TOP + len(panels) * SERIES_PANEL + (len(panels) - 1) * gap
     step = nice_step(t_end, 5)
     for t in _ticks(0.0, t_end, step):
         x = LEFT + t / t_end * pw
         out.append(_text(x, bottom + 16, _label(t, step)))
     out.append(_text(LEFT + pw / 2, height - 10, "t (s)"))
     out.append(
-        f'<line class="plot-cursor" x1="{LEFT}" y1="{TOP}" x2="{LEFT}" y2="{bottom}" '
+        f'<line class="plot-cursor" x1="{LEFT}" y1="{tops[0]}" x2="{LEFT}" y2="{bottom}" '
         f'{_paint("stroke", "cursor", "#d96800")} stroke-width="2"/>'
     )
     out.append("</svg>")

@@ -54,6 +54,8 @@ class ClipConfig:
     camera: str = "follow"  # follow (chase camera) or overview (fixed, whole path; sims/camera.py)
     trail: bool = False  # draw the path travelled so far on the floor
     title: str | None = None  # gallery heading and caption link text (default: the name)
+    description: str | None = None  # the gallery's text (default: the source's own, English)
+    formats: tuple[str, ...] | None = None  # replay and/or video (default: sims.formats)
 
 
 @dataclass(frozen=True)
@@ -68,6 +70,7 @@ class SimsConfig:
     jobs: int | None = None
     timeout: float = 600.0
     clips: tuple[ClipConfig, ...] = ()
+    formats: tuple[str, ...] = ("replay",)  # every clip's formats: replay and/or video
 
 
 @dataclass(frozen=True)
@@ -164,6 +167,7 @@ _SIMS = {
     "jobs": "int",
     "timeout": "num",
     "clips": "list",
+    "formats": "list",
 }
 _CLIP = {
     "name": "str",
@@ -178,7 +182,22 @@ _CLIP = {
     "camera": "str",
     "trail": "bool",
     "title": "str",
+    "description": "str",
+    "formats": "list",
 }
+CLIP_FORMATS = ("replay", "video")
+
+
+def _formats(ck: _Checker, node: yaml.Node, where: str) -> tuple[str, ...] | None:
+    """A ``formats:`` list: some of replay and video, at least one, each once."""
+    import yaml
+
+    items = node.value if isinstance(node, yaml.SequenceNode) else None
+    values = [i.value for i in items or () if isinstance(i, yaml.ScalarNode)]
+    if not items or len(values) != len(items) or any(v not in CLIP_FORMATS for v in values):
+        ck.fail(node, where, "must be a list of replay and/or video, e.g. [replay, video]")
+        return None
+    return tuple(dict.fromkeys(values))
 
 
 def _values(ck: _Checker, nodes: dict[str, yaml.Node], schema: dict[str, str], prefix: str) -> dict:
@@ -320,6 +339,10 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
             ck.fail(nodes["size"], "sims.size", "must look like 480x360")
         else:
             kwargs["width"], kwargs["height"] = int(m.group(1)), int(m.group(2))
+    if "formats" in nodes:
+        formats = _formats(ck, nodes["formats"], "sims.formats")
+        if formats is not None:
+            kwargs["formats"] = formats
     clips = []
     if "clips" in nodes:
         if not isinstance(nodes["clips"], yaml.SequenceNode):
@@ -327,9 +350,14 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
         else:
             for i, item in enumerate(nodes["clips"].value):
                 where = f"sims.clips[{i}]"
-                cv = _values(ck, ck.keys(item, where, _CLIP), _CLIP, where + ".")
+                keys = ck.keys(item, where, _CLIP)
+                cv = _values(ck, keys, _CLIP, where + ".")
                 if not _require(ck, item, cv, "name", where):
                     continue
+                if "formats" in keys:
+                    cv["formats"] = _formats(ck, keys["formats"], f"{where}.formats")
+                    if cv["formats"] is None:
+                        continue
                 if ("scenario" in cv) == ("script" in cv):
                     ck.fail(item, where, "give exactly one of 'scenario' or 'script'")
                     continue

@@ -203,7 +203,7 @@ def start_camera(path: np.ndarray, yaw: float, aspect: float) -> Camera:
     path (sims/camera.py), looking down at ``PITCH``."""
     from sims.camera import matrices, overview_for
 
-    ov = overview_for(path, yaw, FOV_DEG, aspect, pitch=PITCH)
+    ov = overview_for(path, yaw, FOV_DEG, aspect, pitch=PITCH, margin=0.15, min_radius=0.25)
     view, _proj = matrices(ov, FOV_DEG, aspect)
     inverse = np.linalg.inv(np.asarray(view, dtype=np.float64).reshape(4, 4).T)
     eye = tuple(float(v) for v in inverse[:3, 3])
