@@ -252,6 +252,7 @@ class SimsIntegration(Integration):
                 }
             else:
                 view["video"] = {
+                    "base": base,  # project templates older than MP4 name clip.webm from here
                     "sources": videos,
                     "width": int(w),
                     "height": int(h),

@@ -65,7 +65,7 @@ def test_a_broken_clip_gets_a_placeholder_and_a_warning_and_fails_strict(tmp_pat
     page = (src / "site" / "index.html").read_text(encoding="utf-8")
     assert 'class="clip clip-failed" id="clip-drive"' in page  # the page builds, with a placeholder
     assert "the left wheel fell off" in page
-    assert '<source src="clips/rev/clip.webm"' in page  # the good clip is still there
+    assert 'data-replay="clips/rev/replay.js"' in page  # the good clip is still there
     gallery = (src / "site" / "gallery" / "index.html").read_text(encoding="utf-8")
     assert "clip-placeholder" in gallery and "the left wheel fell off" in gallery
     assert "drive.py" in gallery  # the script's source is still shown
@@ -88,24 +88,24 @@ def test_a_failure_is_remembered_until_retried_or_changed(tmp_path):
     [warning] = [w for w in warnings_of(report) if "sims.clips[drive]" in w]
     assert "remembered from an earlier build" in warning and "--retry-failed" in warning
     lines, report = build_logged(src, output=tmp_path / "o3", retry_failed=True)
-    assert "clip drive: started (8 frames)" in lines  # tried again, failed again
+    assert "clip drive: started (replay)" in lines  # tried again, failed again
     assert any(
         "the left wheel fell off" in w and "remembered from" not in w for w in warnings_of(report)
     )
     (src / "scripts" / "drive.py").write_text(CART_SCRIPT, encoding="utf-8")  # fixed: new inputs
     lines, report = build_logged(src, output=tmp_path / "o4")
-    assert "clip drive: started (8 frames)" in lines and warnings_of(report) == []
-    assert (tmp_path / "o4" / "clips" / "drive" / "clip.webm").stat().st_size > 0
+    assert "clip drive: started (replay)" in lines and warnings_of(report) == []
+    assert (tmp_path / "o4" / "clips" / "drive" / "replay.glb").stat().st_size > 0
 
 
 def test_the_last_good_render_is_kept_and_marked_stale(tmp_path):
     src = project(tmp_path / "p")
     build_logged(src)
-    good = (src / "site" / "clips" / "drive" / "clip.webm").read_bytes()
+    good = (src / "site" / "clips" / "drive" / "replay.glb").read_bytes()
     (src / "scripts" / "drive.py").write_text(BROKEN, encoding="utf-8")
     _, report = build_logged(src)
     assert any("previous render" in w for w in warnings_of(report))
-    assert (src / "site" / "clips" / "drive" / "clip.webm").read_bytes() == good
+    assert (src / "site" / "clips" / "drive" / "replay.glb").read_bytes() == good
     page = (src / "site" / "index.html").read_text(encoding="utf-8")
     assert "stale" in page and "clip-failed" not in page
 
@@ -113,7 +113,7 @@ def test_the_last_good_render_is_kept_and_marked_stale(tmp_path):
 def test_a_copied_checkout_with_its_cache_renders_nothing(tmp_path):
     src = project(tmp_path / "first")
     lines, _ = build_logged(src)
-    assert sum(line.endswith("frames)") and "started" in line for line in lines) == 2
+    assert sum(line.endswith("(replay)") and "started" in line for line in lines) == 2
     copy = tmp_path / "elsewhere" / "second"
     shutil.copytree(src, copy)
     shutil.rmtree(copy / "site")  # make the copy build its pages (and ask for every clip)
@@ -124,7 +124,7 @@ def test_a_copied_checkout_with_its_cache_renders_nothing(tmp_path):
     ]
     assert warnings_of(report) == []
     first, second = snapshot(src / "site" / "clips"), snapshot(copy / "site" / "clips")
-    assert first == second and len(first) == 10
+    assert first == second and len(first) == 14  # 7 files a replay clip: glb, js, data, plots
 
 
 def test_one_clip_rendered_twice_is_byte_identical_however_ranges_are_shared(tmp_path):

@@ -110,7 +110,7 @@ class ReplayTape:
                 static += [_moved(s, pos[0], quat[0]) for s in self.looks.get(key, [])]
                 continue
             name, kids = _node_names(key, named, names)
-            node = Node(name, self.looks.get(key, []), _t(pos[0]), _t(quat[0]), kids)
+            node = Node(name, self.looks.get(key, []), _t(pos[0]), _t(quat[0]), kids, link=key)
             if not still_pos or clock:
                 idx = K.reduce_track(pos, K.POSITION_TOLERANCE)
                 node.translation_keys = (times[idx], pos[idx])

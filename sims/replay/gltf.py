@@ -46,6 +46,7 @@ class Node:
     children: list[tuple[str, tuple, tuple]] = field(default_factory=list)  # (name, pos, quat)
     translation_keys: tuple[np.ndarray, np.ndarray] | None = None  # (times, N×3)
     rotation_keys: tuple[np.ndarray, np.ndarray] | None = None  # (times, N×4 xyzw)
+    link: tuple[int, int] | None = None  # (pybullet body, link): ``extras.link``, for tools
 
 
 @dataclass
@@ -217,6 +218,7 @@ def build_glb(
                 translation=_f(node.position),
                 rotation=_f(node.rotation),
                 children=kids,
+                extras={"link": list(node.link)} if node.link is not None else None,
             )
         )
         children.append(index)
