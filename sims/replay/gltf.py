@@ -277,7 +277,7 @@ def build_glb(
     root = b.add_node(
         G.Node(name="replay", rotation=ROOT_ROTATION, children=children, extras={"sitegen": info})
     )
-    b.gltf.scenes.append(G.Scene(name="replay", nodes=[root]))
+    b.gltf.scenes.append(G.Scene(name="sitegen-replay", nodes=[root]))
     b.gltf.scene = 0
     if channels and duration is not None:
         b.gltf.animations.append(G.Animation(name="run", channels=channels, samplers=samplers))

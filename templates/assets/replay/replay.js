@@ -91,20 +91,30 @@
       seek: function (t) { v.seek(t); v.draw(); },
       get time() { return v.t; },
       get duration() { return v.duration; },
+      get clipDuration() { return v.action ? v.action.getClip().duration : 0; },
+      get moving() { // the names of the nodes the animation moves: the robot's links
+        var names = v.action ? v.action.getClip().tracks.map(function (t) { return t.name.split(".")[0]; }) : [];
+        return names.filter(function (n, i) { return names.indexOf(n) === i; });
+      },
       get frames() { return v.frames; },
       get playing() { return v.playing; },
       pause: function () { v.setPlaying(false); },
       pose: function (name) { return v.pose(name); },
       screen: function (name) { return v.screen(name); },
-      orbit: function (radians) { v.orbit(radians); }
+      orbit: function (radians) { v.orbit(radians); },
+      show: function (name, on) { v.showObject(name, on); }
     };
   };
 
   Viewer.prototype.bind = function () {
     var v = this;
-    this.play.addEventListener("click", function () { v.start(true); v.setPlaying(!v.playing); });
+    this.play.addEventListener("click", function () { v.toggle(); });
     this.slider.addEventListener("input", function () {
-      v.start(false); v.setPlaying(false); v.seek(parseFloat(v.slider.value)); v.draw();
+      var t = parseFloat(v.slider.value);
+      v.start(false);
+      v.setPlaying(false);
+      v.seek(t);
+      v.draw();
     });
     this.speedBox.addEventListener("change", function () { v.speed = parseFloat(v.speedBox.value) || 1; });
     this.fig.querySelector(".replay-reset").addEventListener("click", function () { v.resetView(); });
@@ -116,7 +126,7 @@
     });
     this.stage.addEventListener("keydown", function (e) {
       var step = e.shiftKey ? 0.1 : 1;
-      if (e.key === " " || e.key === "k") { v.start(true); v.setPlaying(!v.playing); }
+      if (e.key === " " || e.key === "k") v.toggle();
       else if (e.key === "ArrowRight") { v.setPlaying(false); v.seek(v.t + step); v.draw(); }
       else if (e.key === "ArrowLeft") { v.setPlaying(false); v.seek(v.t - step); v.draw(); }
       else if (e.key === "Home") { v.seek(0); v.draw(); }
@@ -124,6 +134,11 @@
       else return;
       e.preventDefault();
     });
+  };
+
+  Viewer.prototype.toggle = function () {
+    if (!this.started) this.start(true); // plays once loaded
+    else this.setPlaying(!this.playing);
   };
 
   Viewer.prototype.show = function () {
@@ -165,7 +180,7 @@
       })
       .then(function () {
         fig.dataset.state = "ready";
-        if (wantPlay === undefined ? !reduced : false) v.setPlaying(true);
+        if (wantPlay === undefined ? !reduced : wantPlay) v.setPlaying(true);
       })
       .catch(function (err) {
         fig.dataset.state = "failed";
@@ -209,8 +224,8 @@
     canvas.className = "replay-canvas";
     canvas.setAttribute("role", "img");
     canvas.setAttribute("aria-label", this.fig.dataset.label || "");
-    scene.add(new T.HemisphereLight(0xffffff, 0x7a828c, 1.5));
-    var sun = new T.DirectionalLight(0xffffff, 1.5);
+    scene.add(new T.HemisphereLight(0xffffff, 0x5a6270, 1.1));
+    var sun = new T.DirectionalLight(0xffffff, 1.3);
     sun.position.set(2, 5, 3);
     scene.add(sun);
     var start = scene.getObjectByName("camera");
@@ -298,6 +313,7 @@
   };
 
   Viewer.prototype.setPlaying = function (on) {
+    this.autoPaused = false;
     if (on === this.playing || !this.renderer) { this.playing = on && !!this.renderer; this.show(); return; }
     this.playing = on;
     this.show();
@@ -333,6 +349,11 @@
     return { position: [p.x, p.y, p.z], quaternion: [q.x, q.y, q.z, q.w] };
   };
 
+  Viewer.prototype.showObject = function (name, on) {
+    var obj = this.scene && this.scene.getObjectByName(this.T.PropertyBinding.sanitizeNodeName(name));
+    if (obj) { obj.visible = !!on; this.draw(); }
+  };
+
   Viewer.prototype.screen = function (name) {
     var obj = this.scene && this.scene.getObjectByName(this.T.PropertyBinding.sanitizeNodeName(name));
     if (!obj) return null;
@@ -347,7 +368,8 @@
       entries.forEach(function (e) {
         var v = e.target.sitegenViewer;
         if (e.isIntersecting && !v.started && !reduced) v.start();
-        if (!e.isIntersecting && v.playing) v.setPlaying(false);
+        if (!e.isIntersecting && v.playing) { v.setPlaying(false); v.autoPaused = true; }
+        else if (e.isIntersecting && v.autoPaused) { v.autoPaused = false; v.setPlaying(true); }
       });
     }, { rootMargin: "200px" });
     var height = window.innerHeight || document.documentElement.clientHeight;
