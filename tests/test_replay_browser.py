@@ -2,11 +2,11 @@
 repository's own site, over http (as GitHub Pages serves it) and from file://, wide and phone.
 
 For every replay of the gallery: the viewer loads, its animation lasts as long as the run,
-the robot is drawn (its screen region changes when its moving links are hidden), two times show two poses that
-match the recorded ones (data.csv), orbiting changes the view, no console error, no request
-outside the site. Also: the controls and keys, reduced motion (poster, no autoplay), no WebGL
-(poster and a note), the viewer's script only on pages with a replay, and readable plots in
-dark mode.
+the robot is drawn (its screen region changes when its moving links are hidden), two times
+show two poses that match the recorded ones (data.csv), orbiting changes the view, no
+console error, no request outside the site. Also: the controls and keys, reduced motion
+(poster, no autoplay), no WebGL (poster and a note), the viewer's script only on pages with a
+replay, and readable plots in dark mode.
 """
 
 from __future__ import annotations
