@@ -235,6 +235,7 @@ class SimsIntegration(Integration):
                 speed = float(meta.get("speed") or 1)
                 view["replay"] = {
                     "data": base + OUT_NAMES["replay_js"],
+                    "glb": base + OUT_NAMES["replay"],
                     "three": root + THREE,
                     "viewer": root + VIEWER,
                     "load_viewer": self._first_replay_on(),

@@ -2,9 +2,10 @@
  *
  * Markup: templates/partials/clip.html (figure.clip-replay with the poster, the control bar and
  * the time plot). This script is loaded only on pages with a replay. Everything it loads is a
- * classic <script>, never fetch() or an ES module, so a site opened from file:// works too:
- * three.js (assets/replay/three.min.js, window.SITEGEN_THREE) and each clip's replay.js, which
- * calls window.sitegenReplay(itsScriptElement, base64Glb).
+ * classic <script> or, over http(s) only, a fetch() of the clip's .glb; never an ES module, so
+ * a site opened from file:// works too: three.js (assets/replay/three.min.js,
+ * window.SITEGEN_THREE) and, from disk, each clip's replay.js, which calls
+ * window.sitegenReplay(itsScriptElement, base64Glb).
  *
  * A replay starts when its figure comes near the viewport; without WebGL 2 the poster stays,
  * and a reader who prefers reduced motion sees the poster until pressing play (no autoplay).
@@ -37,7 +38,14 @@
     });
     return threeLoad;
   }
-  function loadData(src) {
+  function loadData(src, glb) {
+    if (glb && /^https?:$/.test(location.protocol) && window.fetch) {
+      // served: the .glb itself (a quarter smaller than its base64 script, nothing to decode)
+      return fetch(glb).then(function (r) {
+        if (!r.ok) throw new Error(glb + ": " + r.status);
+        return r.arrayBuffer();
+      });
+    }
     return new Promise(function (resolve, reject) {
       var s = addScript(src, function () {
         if (waiting.has(s)) { waiting.delete(s); reject(new Error(src + " held no replay")); }
@@ -171,10 +179,10 @@
     mark("sitegen-replay-start");
     this.ready = Promise.all([
       loadThree(fig.dataset.three).then(function (T) { mark("sitegen-replay-three"); return T; }),
-      loadData(fig.dataset.replay).then(function (d) { mark("sitegen-replay-data"); return d; })
+      loadData(fig.dataset.replay, fig.dataset.glb).then(function (d) { mark("sitegen-replay-data"); return d; })
     ])
       .then(function (got) {
-        var buffer = decode(got[1]);
+        var buffer = typeof got[1] === "string" ? decode(got[1]) : got[1];
         mark("sitegen-replay-decoded");
         return v.build(got[0], buffer);
       })
