@@ -17,6 +17,7 @@ from sitegen_helpers import REPO, run_cli, snapshot, write_tree
 
 from sims.clip_worker import RANGE_FRAMES
 from sims.clips import ClipEvent, ClipSpec, render_clips
+from sims.video import mp4_encoder
 from sitegen.build import BuildOptions, build
 from sitegen.errors import BuildError
 
@@ -129,12 +130,19 @@ def test_a_copied_checkout_with_its_cache_renders_nothing(tmp_path):
 
 def test_one_clip_rendered_twice_is_byte_identical_however_ranges_are_shared(tmp_path):
     seconds = (RANGE_FRAMES + 12) / 10  # more than one frame range
-    spec = ClipSpec("arm", "2w1a-random", width=96, height=64, fps=10, seconds=seconds)
+    spec = ClipSpec(
+        "arm", "2w1a-random", width=96, height=64, fps=10, seconds=seconds,
+        formats=("replay", "video"),
+    )  # fmt: skip
     one = render_clips([spec], tmp_path / "a", jobs=1)[0]
     two = render_clips([spec], tmp_path / "b", jobs=2)[0]
     assert one.ok and two.ok, (one.error, two.error)
     assert one.meta["frames"] == RANGE_FRAMES + 12
-    for kind in ("video", "poster", "csv", "json", "plot"):
+    kinds = {"video", "replay", "replay_js", "poster", "csv", "json", "plot", "series"}
+    if mp4_encoder():  # the H.264 MP4 too, where ffmpeg has libx264
+        kinds.add("mp4")
+    assert set(one.files) == kinds == set(two.files)
+    for kind in sorted(kinds):
         assert one.files[kind].read_bytes() == two.files[kind].read_bytes(), kind
     meta = one.files["video"].parent / "meta.json"
     assert meta.read_bytes() == (two.files["video"].parent / "meta.json").read_bytes()
