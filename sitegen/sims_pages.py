@@ -226,7 +226,7 @@ class SimsIntegration(Integration):
             poster = base + "poster.png" if self._has(name, "poster") else None
             videos = [
                 {"src": base + OUT_NAMES[k], "type": kind}
-                for k, kind in (("video", "video/webm"), ("mp4", "video/mp4"))
+                for k, kind in (("video", "video/webm; codecs=vp8"), ("mp4", "video/mp4"))
                 if self._has(name, k)
             ]
             replay = "replay" in formats and self._has(name, "replay_js")

@@ -7,6 +7,7 @@ import pytest
 from sitegen_helpers import write_tree
 
 from sims.clips import ClipSpec, render_clips, spec_fields
+from sims.video import mp4_encoder, probe
 from sitegen.build import BuildOptions, build
 from sitegen.config import parse_config
 from sitegen.errors import BuildError
@@ -66,7 +67,15 @@ def test_a_page_shows_a_replay_or_a_video_as_asked(tmp_path):
     assert 'data-glb="clips/r/replay.glb"' in home and 'data-replay="clips/r/replay.js"' in home
     assert "模擬 2.0 秒 · 以 2× 播放 · " in home  # the replay starts at the clip's speed
     assert 'href="clips/b/clip.webm">WebM</a>' in home  # the video beside a replay
-    assert '<source src="clips/v/clip.webm" type="video/webm">' in home
+    assert '<source src="clips/v/clip.webm" type="video/webm; codecs=vp8">' in home
+    if mp4_encoder():  # H.264 for Safari on iPhones, after the WebM
+        mp4 = out / "clips" / "v" / "clip.mp4"
+        assert '<source src="clips/v/clip.mp4" type="video/mp4">' in home
+        assert home.index("clips/v/clip.webm") < home.index("clips/v/clip.mp4")
+        assert b"avc1" in mp4.read_bytes()[:4096]  # H.264 sample entry in the MP4 header
+        info, _ = probe(mp4)
+        webm, _ = probe(out / "clips" / "v" / "clip.webm")
+        assert (info.frames, info.width, info.height) == (webm.frames, 64, 48) == (4, 64, 48)
     assert "assets/replay/" not in (out / "plain.html").read_text(encoding="utf-8")
     assert sorted(p.name for p in (out / "clips" / "r").iterdir()) == [
         "data.csv", "data.json", "path.svg", "poster.png", "replay.glb", "replay.js", "series.svg",

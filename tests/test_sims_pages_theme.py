@@ -57,7 +57,7 @@ def test_default_gallery_and_figures_escape_and_link(tmp_path):
     body = gallery(integ)
     assert body.count('<section class="gallery-item">') == 2
     assert '<h2 id="clip-cart-h">Cart &lt;i&gt;</h2>' in body
-    assert '<source src="../clips/cart/clip.webm" type="video/webm"></video>' in body
+    assert '<source src="../clips/cart/clip.webm" type="video/webm; codecs=vp8"></video>' in body
     assert "clip.mp4" not in body  # no MP4 file: no source for it
     assert 'poster="../clips/cart/poster.png"' in body
     assert '<p lang="en">Cart &lt;drives&gt; &amp; stops</p>' not in body  # an English site

@@ -116,7 +116,7 @@ def test_clip_directive_embeds_a_browser_friendly_video(sims_site):
         'poster="clips/rev/poster.png"',
     ):
         assert attr in video
-    assert '<source src="clips/rev/clip.webm" type="video/webm">' in page
+    assert '<source src="clips/rev/clip.webm" type="video/webm; codecs=vp8">' in page
     for name in ("clip.webm", "poster.png", "data.csv", "data.json", "path.svg"):
         assert (out / "clips/rev" / name).stat().st_size > 0
     gallery = (out / "gallery/index.html").read_text(encoding="utf-8")
