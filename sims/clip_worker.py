@@ -1,14 +1,16 @@
 """The three phases of a clip, run in worker processes: simulate, render frame ranges, encode.
 
 1. **simulate** runs the clip's source in a World without a renderer (physics only, fast),
-   writes the data files (CSV, JSON, SVG path) and a *state tape*: for every video frame, the
-   pose of every body and the position of every joint (``states.npz``, sims/state_tape.py).
+   writes the data files (CSV, JSON, SVG plots), for a replay the ``.glb`` and its poster
+   (sims/replay/clip.py; a replay-only clip ends here) and, for a video, a *state tape*: for
+   every video frame, the pose of every body and the position of every joint (``states.npz``,
+   sims/state_tape.py).
 2. **render** rebuilds the scene in a World with the renderer, and for one frame range sets
    each recorded state and draws it (``frames-NNNNNN.rgb``, raw RGB). Ranges are independent,
    so one long clip keeps every core busy; a range never depends on what its process drew
    before (``Renderer.new_sequence``), so the bytes do not depend on how ranges were scheduled.
-3. **encode** writes the ranges, in order, to ``clip.webm`` and ``poster.png`` (middle frame)
-   and the clip's ``meta.json``.
+3. **encode** writes the ranges, in order, to ``clip.webm`` (and ``clip.mp4`` where ffmpeg has
+   H.264), ``poster.png`` (middle frame, unless the replay made it) and ``meta.json``.
 
 ``python -m sims.clip_worker`` serves jobs: one JSON line per job on stdin, one JSON line per
 progress report or result on stdout (C-level output of pybullet/EGL goes to stderr, the worker's
@@ -107,23 +109,7 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
     name = spec.label or spec.scenario
     params = portable_params(plan.params)
     scene = Path(plan.scene).name if Path(plan.scene).is_absolute() else plan.scene
-    title = f"{name} · {plan.seed} · {recording.subject}"  # names only: any site language
-    (out / FILES["plot"]).write_text(
-        path_svg(recording.column("x"), recording.column("y"), title, recording.breaks),
-        encoding="utf-8",
-    )
-    (out / FILES["series"]).write_text(series_svg(recording, spec.fps), encoding="utf-8")
-    (out / FILES["csv"]).write_text(recording.to_csv(), encoding="utf-8")
-    header = {
-        "kind": spec.kind,
-        "scenario": name,
-        "seed": plan.seed,
-        "params": params,
-        "fps": spec.fps,
-        "speed": spec.speed,
-        "scene": scene,
-    }
-    (out / FILES["json"]).write_text(recording.to_json(**header), encoding="utf-8")
+    write_data(out, recording, spec, plan, name, params, scene)
     meta = {
         "kind": spec.kind,
         "scenario": name,
@@ -150,6 +136,18 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
     if not video:  # nothing left to draw: the clip is complete
         return finish_meta(out, meta, "tinyrenderer")
     return meta
+
+
+def write_data(out: Path, recording, spec, plan, name: str, params: dict, scene: str) -> None:
+    """The data files every clip has: CSV, JSON and the two plots (sims/plot.py)."""
+    title = f"{name} · {plan.seed} · {recording.subject}"  # names only: any site language
+    xs, ys = recording.column("x"), recording.column("y")
+    (out / FILES["plot"]).write_text(path_svg(xs, ys, title, recording.breaks), encoding="utf-8")
+    (out / FILES["series"]).write_text(series_svg(recording, spec.fps), encoding="utf-8")
+    (out / FILES["csv"]).write_text(recording.to_csv(), encoding="utf-8")
+    header = {"kind": spec.kind, "scenario": name, "seed": plan.seed, "params": params}
+    header |= {"fps": spec.fps, "speed": spec.speed, "scene": scene}
+    (out / FILES["json"]).write_text(recording.to_json(**header), encoding="utf-8")
 
 
 def finish_meta(out: Path, meta: dict[str, Any], renderer: str) -> dict[str, Any]:

@@ -14,6 +14,8 @@ import math
 from typing import Any
 
 SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)  # the replay's speed choices; the clip's own is added
+VIEWER_WORDS = ("play", "pause", "timeline", "speed", "reset_view", "fullscreen", "replay_keys")
+VIEWER_WORDS += ("no_webgl", "replay_failed", "video", "series")  # the replay figure's words
 
 
 def number(value: float) -> str:

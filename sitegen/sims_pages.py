@@ -25,19 +25,6 @@ from sitegen.output import OutFile, file_digest
 from sitegen.pages import root_prefix
 from sitegen.partials import Partials, trusted
 
-_VIEWER_WORDS = (
-    "play",
-    "pause",
-    "timeline",
-    "speed",
-    "reset_view",
-    "fullscreen",
-    "replay_keys",
-    "no_webgl",
-    "replay_failed",
-    "video",
-    "series",
-)
 OUT_NAMES = {  # as sims.clip_cache.FILES (kept here: importing sims costs a quick build time)
     "video": "clip.webm",
     "mp4": "clip.mp4",
@@ -245,7 +232,7 @@ class SimsIntegration(Integration):
                     "speeds": words.speed_choices(speed),
                     "poster": poster,
                     "series": self._inline_svg(name, "series"),
-                    "t": {k: t[k] for k in _VIEWER_WORDS},
+                    "t": {k: t[k] for k in words.VIEWER_WORDS},
                     "label": t["replay_label"].format(title=title),
                     "alt": t["first_frame"].format(title=title),
                     "unit": t["seconds_unit"],
