@@ -44,7 +44,7 @@
       return fetch(glb).then(function (r) {
         if (!r.ok) throw new Error(glb + ": " + r.status);
         return r.arrayBuffer();
-      });
+      }).catch(function () { return loadData(src); }); // a server refusing .glb: the script
     }
     return new Promise(function (resolve, reject) {
       var s = addScript(src, function () {
