@@ -30,6 +30,7 @@ from sims.quiet import pybullet as p
 SHADING_ANGLE = math.radians(30.0)
 SECTIONS = 24  # around a cylinder, capsule or cone
 SPHERE_SUBDIVISIONS = 2  # icosphere: 162 vertices
+SLAB = 0.02  # a box thinner than this share of its next side (a tile, a plane): two faces
 LinkKey = tuple[int, int]  # (pybullet body id, link index; -1 = base)
 Arrays = tuple[np.ndarray, np.ndarray, np.ndarray]  # positions, normals, triangle indices
 
@@ -63,6 +64,8 @@ def primitive(kind: str, dims: tuple[float, ...]) -> Arrays:
     """A tessellated primitive centred on its frame, pybullet's axes (cylinders along z)."""
     from trimesh import creation
 
+    if kind == "box" and min(dims) < SLAB * sorted(dims)[1]:
+        return _slab(dims)
     if kind == "box":
         mesh = creation.box(extents=dims)
     elif kind == "sphere":
@@ -74,6 +77,31 @@ def primitive(kind: str, dims: tuple[float, ...]) -> Arrays:
     else:
         raise ValueError(f"unknown primitive {kind!r}")
     return _shade(mesh)
+
+
+def _slab(dims: tuple[float, ...]) -> Arrays:
+    """A very thin box as its two large faces: its sides are under 2% as wide as the faces
+    and draw as a hairline at most, and a checker floor of such tiles shrinks threefold."""
+    axis = int(np.argmin(dims))
+    u, v = [a for a in range(3) if a != axis]
+    pts, normals, faces = [], [], []
+    for side in (1.0, -1.0):
+        base = len(pts)
+        for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+            p = [0.0, 0.0, 0.0]
+            p[axis], p[u], p[v] = side * dims[axis] / 2, a * dims[u] / 2, b * dims[v] / 2
+            pts.append(p)
+            n = [0.0, 0.0, 0.0]
+            n[axis] = side
+            normals.append(n)
+        faces += [base + i for i in (0, 1, 2, 0, 2, 3)]
+    pts_a, faces_a = np.asarray(pts), np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    normals_a = np.asarray(normals)
+    for tri in faces_a:  # wind each triangle counter-clockwise about its normal
+        a, b, c = pts_a[tri]
+        if np.dot(np.cross(b - a, c - a), normals_a[tri[0]]) < 0:
+            tri[1], tri[2] = tri[2], tri[1]
+    return pts_a, normals_a, faces_a.reshape(-1)
 
 
 def triangles(points: list | np.ndarray, indices: list | np.ndarray) -> Arrays:
