@@ -213,7 +213,8 @@
 
   Viewer.prototype.setup = function (T, gltf) {
     var v = this;
-    var scene = (this.scene = gltf.scene);
+    var scene = (this.scene = new T.Scene()); // a glTF scene is a Group: no background
+    scene.add(gltf.scene);
     this.root = scene.getObjectByName("replay");
     scene.updateMatrixWorld(true);
     scene.traverse(function (o) { // Lambert: a far smaller shader than glTF's PBR one (first frame)
