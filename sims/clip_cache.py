@@ -3,9 +3,10 @@
 Key = sha256 over: the source's files (scenario file, script...) by content and file name, the
 engine files below by content and package-relative name (never mtimes or absolute paths, so a
 checkout copied or moved elsewhere hits the same entries), the params, seed, size, fps,
-seconds, speed, the requested renderer and the pybullet and OpenCV versions. Layout::
+seconds, speed, formats, the requested renderer and the versions of the libraries that write
+the files (pybullet, OpenCV, trimesh, pygltflib, the MP4 encoder). Layout::
 
-    cache_dir/<key>/        clip.webm poster.png data.csv data.json path.svg meta.json
+    cache_dir/<key>/        meta.json and the files its "files" lists (FILES: the names by kind)
     cache_dir/latest/<name>.json   {"key": ...}  the last good render of each clip name
     cache_dir/failed/<key>.json    {"name": ..., "error": ...}  a render of these inputs failed
 """
@@ -37,16 +38,21 @@ ENGINE_FILES = (
     "clip_worker.py",
     "state_tape.py",
     "sources.py",
+    "replay/*.py",  # glTF replays
     "models/*.py",
     "scenarios/__init__.py",
     "scene/*.py",
 )
-FILES = {
+FILES = {  # every kind of file a clip may have; an entry's meta.json lists the ones it has
     "video": "clip.webm",
+    "mp4": "clip.mp4",
     "poster": "poster.png",
     "csv": "data.csv",
     "json": "data.json",
     "plot": "path.svg",
+    "series": "series.svg",
+    "replay": "replay.glb",
+    "replay_js": "replay.js",
 }
 META = "meta.json"
 
@@ -79,14 +85,25 @@ def engine_files() -> list[Path]:
     return out
 
 
+def _version(package: str) -> str:
+    try:
+        return metadata.version(package)
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
 def _versions() -> dict[str, str]:
     import cv2
 
-    try:
-        pybullet = metadata.version("pybullet")
-    except metadata.PackageNotFoundError:
-        pybullet = "unknown"
-    return {"pybullet": pybullet, "opencv": cv2.__version__}
+    from sims.video import mp4_encoder
+
+    return {
+        "pybullet": _version("pybullet"),
+        "opencv": cv2.__version__,
+        "trimesh": _version("trimesh"),
+        "pygltflib": _version("pygltflib"),
+        "mp4": mp4_encoder() or "none",
+    }
 
 
 def clip_key(fields: dict[str, Any], source_files: list[str]) -> str:
@@ -149,19 +166,29 @@ def entry_dir(cache_dir: Path, key: str) -> Path:
     return Path(cache_dir) / key
 
 
-def entry_files(cache_dir: Path, key: str) -> dict[str, Path]:
+def _read_meta(cache_dir: Path, key: str) -> dict[str, Any] | None:
+    try:
+        meta = json.loads((entry_dir(cache_dir, key) / META).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return meta if isinstance(meta, dict) and isinstance(meta.get("files"), dict) else None
+
+
+def entry_files(cache_dir: Path, key: str, meta: dict[str, Any] | None = None) -> dict[str, Path]:
+    """The entry's files by kind (those its meta lists)."""
+    meta = meta if meta is not None else _read_meta(cache_dir, key)
     d = entry_dir(cache_dir, key)
-    return {kind: d / name for kind, name in FILES.items()}
+    files = meta.get("files", {}) if meta else {}
+    return {kind: d / name for kind, name in files.items() if FILES.get(kind) == name}
 
 
 def load_entry(cache_dir: Path, key: str) -> dict[str, Any] | None:
     """The entry's meta if the entry is complete, else None."""
-    d = entry_dir(cache_dir, key)
-    try:
-        meta = json.loads((d / META).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    meta = _read_meta(cache_dir, key)
+    if meta is None:
         return None
-    if not all(f.is_file() for f in entry_files(cache_dir, key).values()):
+    files = entry_files(cache_dir, key, meta)
+    if not files or not all(f.is_file() for f in files.values()):
         return None
     return meta
 

@@ -123,7 +123,9 @@ def _advance(
 ) -> None:
     """A job of ``clip`` succeeded: queue what it unlocks."""
     phase = job.payload["phase"]
-    if phase == "simulate":
+    if phase == "simulate" and "files" in result:  # a replay without video: complete
+        clip.outcome = result
+    elif phase == "simulate":
         clip.meta = result
         clip.total = result["frames"]
         clip.starts = range_starts(clip.total, RANGE_FRAMES)

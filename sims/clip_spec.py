@@ -16,7 +16,9 @@ class ClipSpec:
     ``seconds`` is the simulated length; ``speed`` the time-lapse factor (``speed=4`` plays
     80 simulated seconds in 20 s of video; data files keep every sample). ``timeout``: this
     clip's wall-clock safety net per job (None: render_clips's). ``label``: a portable name
-    of the source for keys and outputs (default: ``scenario``)."""
+    of the source for keys and outputs (default: ``scenario``). ``formats``: what the clip is
+    shown as, ``"replay"`` (a glTF scene the page plays in 3D, sims/replay/) and/or
+    ``"video"`` (WebM, and MP4 where an H.264 encoder is installed)."""
 
     name: str
     scenario: str
@@ -32,3 +34,7 @@ class ClipSpec:
     label: str | None = None
     camera: str = "follow"  # or "overview": one fixed camera framing the whole path
     trail: bool = False  # the path so far drawn on the floor (sims/camera.py)
+    formats: tuple[str, ...] = ("video",)  # "replay" and/or "video"
+
+
+FORMATS = ("replay", "video")

@@ -1,14 +1,16 @@
 """The three phases of a clip, run in worker processes: simulate, render frame ranges, encode.
 
 1. **simulate** runs the clip's source in a World without a renderer (physics only, fast),
-   writes the data files (CSV, JSON, SVG path) and a *state tape*: for every video frame, the
-   pose of every body and the position of every joint (``states.npz``, sims/state_tape.py).
+   writes the data files (CSV, JSON, SVG plots), for a replay the ``.glb`` and its poster
+   (sims/replay/clip.py; a replay-only clip ends here) and, for a video, a *state tape*: for
+   every video frame, the pose of every body and the position of every joint (``states.npz``,
+   sims/state_tape.py).
 2. **render** rebuilds the scene in a World with the renderer, and for one frame range sets
    each recorded state and draws it (``frames-NNNNNN.rgb``, raw RGB). Ranges are independent,
    so one long clip keeps every core busy; a range never depends on what its process drew
    before (``Renderer.new_sequence``), so the bytes do not depend on how ranges were scheduled.
-3. **encode** writes the ranges, in order, to ``clip.webm`` and ``poster.png`` (middle frame)
-   and the clip's ``meta.json``.
+3. **encode** writes the ranges, in order, to ``clip.webm`` (and ``clip.mp4`` where ffmpeg has
+   H.264), ``poster.png`` (middle frame, unless the replay made it) and ``meta.json``.
 
 ``python -m sims.clip_worker`` serves jobs: one JSON line per job on stdin, one JSON line per
 progress report or result on stdout (C-level output of pybullet/EGL goes to stderr, the worker's
@@ -31,12 +33,12 @@ from typing import Any
 import numpy as np
 
 from sims.clip_cache import FILES, META
-from sims.plot import path_svg
+from sims.plot import path_svg, series_svg
 from sims.recording import RecordingTimeout, frame_count, record
 from sims.render import requested_renderer
 from sims.sources import load_plan_function
 from sims.state_tape import SceneChanged, apply_state, capture_state, covers, layout_of
-from sims.video import WebmWriter, write_png
+from sims.video import Mp4Writer, WebmWriter, mp4_encoder, write_png
 from sims.world import World
 
 STATES = "states.npz"
@@ -52,14 +54,17 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
     """Run the source; write data files and the state tape into ``out_dir``."""
     from sims.clip_cache import portable_params
     from sims.clip_spec import ClipSpec
+    from sims.replay.export import ReplayTape
 
     spec = ClipSpec(**job["spec"])
     out = Path(job["out_dir"])
     plan = load_plan_function(job["target"])(spec)
     length = spec.seconds if spec.seconds is not None else plan.duration
+    video = "video" in spec.formats
     total = frame_count(length, spec.fps, spec.speed)
     states: list[list[float]] = []
     seen: dict[str, Any] = {}
+    tape = ReplayTape(plan.follow) if "replay" in spec.formats else None
 
     def on_frame(world: World) -> None:
         if "layout" not in seen:
@@ -71,48 +76,41 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
         if progress is not None:
             progress(len(states))
 
+    def on_sample(world: World) -> None:
+        if "first" not in seen:  # the state the poster shows
+            seen["first_layout"] = layout_of(world)
+            seen["first"] = capture_state(world, seen["first_layout"])
+        assert tape is not None
+        tape.sample(world)
+
     deadline = time.monotonic() + job["time_limit"]
     recording, _ = record(
         plan,
         fps=spec.fps,
         seconds=spec.seconds,
-        on_frame=on_frame,
+        on_frame=on_frame if video else None,
         deadline=deadline,
         speed=spec.speed,
+        on_sample=on_sample if tape is not None else None,
     )
-    if not states or len(states) > total:  # fewer: the source ended the clip early
-        raise RuntimeError(f"recorded {len(states)} frames, expected {total}")
-    total = len(states)
     follow = plan.follow or recording.subject
-    layout = seen["layout"]
-    np.savez(
-        out / STATES,
-        states=np.asarray(states, dtype=np.float64),
-        layout=np.asarray(json.dumps(layout)),
-        world=np.asarray(
-            json.dumps({"scene": plan.scene, "seed": plan.seed, "options": plan.scene_options})
-        ),
-    )
+    if video:
+        if not states or len(states) > total:  # fewer: the source ended the clip early
+            raise RuntimeError(f"recorded {len(states)} frames, expected {total}")
+        total = len(states)
+        np.savez(
+            out / STATES,
+            states=np.asarray(states, dtype=np.float64),
+            layout=np.asarray(json.dumps(seen["layout"])),
+            world=np.asarray(
+                json.dumps({"scene": plan.scene, "seed": plan.seed, "options": plan.scene_options})
+            ),
+        )
     name = spec.label or spec.scenario
     params = portable_params(plan.params)
     scene = Path(plan.scene).name if Path(plan.scene).is_absolute() else plan.scene
-    title = f"{name} (seed {plan.seed}): path of {recording.subject}"
-    (out / FILES["plot"]).write_text(
-        path_svg(recording.column("x"), recording.column("y"), title, recording.breaks),
-        encoding="utf-8",
-    )
-    (out / FILES["csv"]).write_text(recording.to_csv(), encoding="utf-8")
-    header = {
-        "kind": spec.kind,
-        "scenario": name,
-        "seed": plan.seed,
-        "params": params,
-        "fps": spec.fps,
-        "speed": spec.speed,
-        "scene": scene,
-    }
-    (out / FILES["json"]).write_text(recording.to_json(**header), encoding="utf-8")
-    return {
+    write_data(out, recording, spec, plan, name, params, scene)
+    meta = {
         "kind": spec.kind,
         "scenario": name,
         "description": plan.description,
@@ -120,15 +118,47 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
         "scene": scene,
         "seed": plan.seed,
         "params": params,
-        "frames": total,
+        "frames": total if video else 0,
         "samples": len(recording.rows),
         "duration": round(len(recording.rows) / spec.fps, 3),
         "fps": spec.fps,
         "speed": spec.speed,
         "width": spec.width,
         "height": spec.height,
+        "formats": sorted(set(spec.formats)),
         "follow": follow,
     }
+    if tape is not None:
+        from sims.replay.clip import write_replay
+
+        poster = (seen["first_layout"], seen["first"])
+        write_replay(out, tape, spec, plan, poster)
+    if not video:  # nothing left to draw: the clip is complete
+        return finish_meta(out, meta, "tinyrenderer")
+    return meta
+
+
+def write_data(out: Path, recording, spec, plan, name: str, params: dict, scene: str) -> None:
+    """The data files every clip has: CSV, JSON and the two plots (sims/plot.py)."""
+    title = f"{name} · {plan.seed} · {recording.subject}"  # names only: any site language
+    xs, ys = recording.column("x"), recording.column("y")
+    (out / FILES["plot"]).write_text(path_svg(xs, ys, title, recording.breaks), encoding="utf-8")
+    (out / FILES["series"]).write_text(series_svg(recording, spec.fps), encoding="utf-8")
+    (out / FILES["csv"]).write_text(recording.to_csv(), encoding="utf-8")
+    header = {"kind": spec.kind, "scenario": name, "seed": plan.seed, "params": params}
+    header |= {"fps": spec.fps, "speed": spec.speed, "scene": scene}
+    (out / FILES["json"]).write_text(recording.to_json(**header), encoding="utf-8")
+
+
+def finish_meta(out: Path, meta: dict[str, Any], renderer: str) -> dict[str, Any]:
+    """The clip's meta.json: what ran, and the files the entry holds."""
+    meta = dict(meta)
+    (out / STATES).unlink(missing_ok=True)
+    meta.pop("follow", None)
+    meta["renderer"] = renderer
+    meta["files"] = {kind: name for kind, name in FILES.items() if (out / name).is_file()}
+    (out / META).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n", encoding="utf-8")
+    return meta
 
 
 def _portable(path: str) -> str:
@@ -240,15 +270,25 @@ def render_range(
 
 # -- phase 3: encode ---------------------------------------------------------------------------
 def encode(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
-    """Join the ranges into ``clip.webm`` (+ poster) and write ``meta.json``."""
+    """Join the ranges into ``clip.webm`` and, where ffmpeg has H.264, ``clip.mp4`` (+ the
+    poster, unless the replay made it) and write ``meta.json``."""
+    import contextlib
+
     out = Path(job["out_dir"])
     spec = job["spec"]
     meta = dict(job["meta"])
     width, height, total = spec["width"], spec["height"], meta["frames"]
     size = width * height * 3
-    poster_index = total // 2
+    poster_index = total // 2 if "replay" not in spec.get("formats", ()) else -1
     done = 0
-    with WebmWriter(out / FILES["video"], width, height, spec["fps"]) as video:
+    with contextlib.ExitStack() as stack:
+        writers: list[Any] = [
+            stack.enter_context(WebmWriter(out / FILES["video"], width, height, spec["fps"]))
+        ]
+        if mp4_encoder() is not None:
+            writers.append(
+                stack.enter_context(Mp4Writer(out / FILES["mp4"], width, height, spec["fps"]))
+            )
         for start in job["starts"]:
             path = range_file(out, start)
             with open(path, "rb") as f:
@@ -256,19 +296,15 @@ def encode(job: dict[str, Any], progress: Progress | None = None) -> dict[str, A
                     frame = np.frombuffer(chunk, dtype=np.uint8).reshape(height, width, 3)
                     if done == poster_index:
                         write_png(out / FILES["poster"], frame)
-                    video.write(frame)
+                    for writer in writers:
+                        writer.write(frame)
                     done += 1
                     if progress is not None:
                         progress(done)
             path.unlink()
     if done != total:
         raise RuntimeError(f"encoded {done} frames, expected {total}")
-    (out / STATES).unlink(missing_ok=True)
-    meta.pop("follow", None)
-    meta["renderer"] = job["renderer"]
-    meta["files"] = dict(FILES)
-    (out / META).write_text(json.dumps(meta, sort_keys=True, indent=1) + "\n", encoding="utf-8")
-    return meta
+    return finish_meta(out, meta, job["renderer"])
 
 
 def range_starts(total: int, size: int) -> list[int]:
@@ -283,6 +319,8 @@ def render_job(job: dict[str, Any]) -> tuple[dict[str, Any], str | None]:
     """All three phases in this process: the clip's meta (as the workers would write it) and
     why EGL fell back (None: it did not; see ``sims.render.fallback_note``)."""
     meta = simulate(job)
+    if "files" in meta:  # no video: simulate finished the clip
+        return meta, None
     starts = range_starts(meta["frames"], RANGE_FRAMES)
     worlds = WorldCache()
     renderers = set()

@@ -1,10 +1,11 @@
-"""Render simulation clips (WebM + poster + CSV/JSON + SVG path), cached by content hash.
+"""Render simulation clips (replay and/or video, poster, CSV/JSON, SVG plots), cached by content.
 
 ``render_clips(specs, cache_dir)`` resolves each :class:`ClipSpec` to a recording plan, looks
 its key up in the cache (sims/clip_cache.py) and renders only what is missing. A render is three
-kinds of job (sims/clip_worker.py): *simulate* (physics only, records the state of every frame),
-*render* one frame range of that state tape, *encode* the ranges into the WebM. Jobs run in
-worker processes (sims/clip_pool.py) in the order sims/clip_schedule.py hands them out,
+kinds of job (sims/clip_worker.py): *simulate* (physics only, records the state of every frame;
+writes the data files and, for ``"replay"``, the glTF replay), then for ``"video"`` only,
+*render* one frame range of that state tape and *encode* the ranges into the WebM (and MP4).
+Jobs run in worker processes (sims/clip_pool.py) in the order sims/clip_schedule.py hands them out,
 simulations first, so one long clip's frame ranges keep every core busy.
 
 Failures never raise: a clip whose source raises, crashes its worker or passes its limit comes
@@ -50,7 +51,7 @@ from typing import Any
 
 from sims import clip_cache
 from sims.clip_schedule import ClipEvent, ClipRun, Progress, run_clips
-from sims.clip_spec import ClipSpec
+from sims.clip_spec import FORMATS, ClipSpec
 from sims.recording import frame_count
 from sims.render import requested_renderer
 from sims.sources import load_plan_function, source_target
@@ -60,7 +61,8 @@ DEFAULT_TIMEOUT = 600.0
 
 @dataclass
 class ClipResult:
-    """Outcome of one clip; ``files`` maps video/poster/csv/json/plot to paths in the cache."""
+    """Outcome of one clip; ``files`` maps kinds (sims.clip_cache.FILES: replay, video, poster,
+    csv, json, plot...) to paths in the cache."""
 
     name: str
     ok: bool
@@ -92,6 +94,7 @@ def spec_fields(spec: ClipSpec, seed: int, params: dict[str, Any]) -> dict[str, 
         # only when not the default, so the keys of existing follow-camera clips stay valid
         **({"camera": spec.camera} if spec.camera != "follow" else {}),
         **({"trail": True} if spec.trail else {}),
+        "formats": sorted(set(spec.formats)),
     }
 
 
@@ -158,9 +161,8 @@ def render_clips(
         tmp.chmod(0o755)
         length = spec.seconds if spec.seconds is not None else plan.duration
         limit = spec.timeout if spec.timeout is not None else timeout
-        todo.append(
-            ClipRun(i, spec, key, target, tmp, frame_count(length, spec.fps, spec.speed), limit)
-        )
+        frames = frame_count(length, spec.fps, spec.speed) if "video" in spec.formats else 0
+        todo.append(ClipRun(i, spec, key, target, tmp, frames, limit))
         notify(ClipEvent(spec.name, "queued", total=todo[-1].total))
     if todo:
         for clip in run_clips(todo, jobs, notify):
@@ -180,13 +182,18 @@ def _check_spec(spec: ClipSpec) -> None:
         raise ValueError(f"speed must be at least 1, not {spec.speed!r}")
     if spec.timeout is not None and not spec.timeout > 0:
         raise ValueError(f"timeout must be positive, not {spec.timeout!r}")
+    unknown = [f for f in spec.formats if f not in FORMATS]
+    if not spec.formats or unknown:
+        raise ValueError(
+            f"formats must be some of {', '.join(FORMATS)}, not {list(spec.formats)!r}"
+        )
 
 
 def _hit(cache_dir: Path, spec: ClipSpec, key: str, meta: dict[str, Any]) -> ClipResult:
     return ClipResult(
         spec.name,
         True,
-        files=clip_cache.entry_files(cache_dir, key),
+        files=clip_cache.entry_files(cache_dir, key, meta),
         meta={**meta, "name": spec.name, "key": key},
     )
 

@@ -128,8 +128,11 @@ class Recorder:
         on_frame: FrameSink | None = None,
         deadline: float | None = None,
         film_every: float = 1.0,
+        on_sample: FrameSink | None = None,
     ):
-        """``film_every``: a time-lapse films every n-th sample (``speed``), data keep all."""
+        """``film_every``: a time-lapse films every n-th sample (``speed``), data keep all.
+        ``on_sample``: called at every data sample and once more at the clip's end time (a
+        replay's keyframes: sims/replay/export.py), so it sees ``frames + 1`` states."""
         if film_every < 1:
             raise ValueError(f"speed must be at least 1, not {film_every!r}")
         if quantity not in ("angle", "speed"):
@@ -143,6 +146,8 @@ class Recorder:
         self.on_frame = on_frame
         self.deadline = deadline
         self.film_every = film_every
+        self.on_sample = on_sample
+        self.ended = on_sample is None  # the end state was handed to on_sample
         self.filmed = 0
         unit = "_deg" if quantity == "angle" else "_rad_s"
         columns = ["t", "x", "y", "z", "alpha_deg", "beta_deg", "gamma_deg", "heading_deg"]
@@ -179,9 +184,10 @@ class Recorder:
         self._capture()
 
     def finish(self) -> Recording:
-        """Idle the world until every frame is taken (short drivers), then unhook."""
+        """Idle the world until every frame is taken (short drivers) and, with ``on_sample``,
+        the end time is reached; then unhook."""
         try:
-            while not self.done:
+            while not (self.done and self.ended):
                 self.world.step()
         except StopRecording:
             pass
@@ -200,6 +206,10 @@ class Recorder:
         self._world_steps = world.steps
         if not self.done and self._clip_steps >= self._next_frame:
             self._capture()
+        elif self.done and not self.ended and self._clip_steps >= self._next_frame:
+            self.ended = True  # the clip's end time: the last state of a replay
+            assert self.on_sample is not None
+            self.on_sample(world)
 
     def _capture(self) -> None:
         if self.deadline is not None and time.monotonic() > self.deadline:
@@ -216,6 +226,8 @@ class Recorder:
             )
         row += list(self._extra.values())
         self.recording.rows.append(row)
+        if self.on_sample is not None:
+            self.on_sample(w)
         if self.taken - 1 == round(self.filmed * self.film_every):
             self.filmed += 1
             if self.on_frame is not None:
@@ -245,13 +257,15 @@ def record(
     deadline: float | None = None,
     render_with: str | None = None,
     speed: float = 1.0,
+    on_sample: FrameSink | None = None,
 ) -> tuple[Recording, str]:
     """Run ``plan`` in a fresh World for ``seconds`` (default: its duration) at ``fps``.
 
     The one place a plan meets a World: clips (with ``on_frame`` filming) and run_scenario
     (data only) both come through here. Returns the samples and the renderer that ran.
     ``speed``: time-lapse factor; samples stay at ``fps``, ``on_frame`` sees every
-    ``speed``-th one (:func:`frame_count` of them).
+    ``speed``-th one (:func:`frame_count` of them); ``on_sample`` sees every sample and the
+    end state (a replay).
     """
     length = plan.duration if seconds is None else seconds
     with World(plan.scene, seed=plan.seed, render_with=render_with, **plan.scene_options) as world:
@@ -266,6 +280,7 @@ def record(
             on_frame=on_frame,
             deadline=deadline,
             film_every=speed,
+            on_sample=on_sample,
         )
         return drive(world, recorder, plan.drive), world.renderer
 

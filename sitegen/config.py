@@ -58,6 +58,8 @@ class ClipConfig:
     keys: Path | None = None  # script clips: key presses for `import keyboard` (--keys format)
     args: tuple[str, ...] = ()  # script clips: the script's arguments (sys.argv[1:])
     python: str | None = None  # script clips: run the script in this interpreter (--python)
+    description: str | None = None  # the gallery's text (default: the source's own, English)
+    formats: tuple[str, ...] | None = None  # replay and/or video (default: sims.formats)
 
 
 @dataclass(frozen=True)
@@ -72,6 +74,7 @@ class SimsConfig:
     jobs: int | None = None
     timeout: float = 600.0
     clips: tuple[ClipConfig, ...] = ()
+    formats: tuple[str, ...] = ("replay",)  # every clip's formats: replay and/or video
 
 
 @dataclass(frozen=True)
@@ -169,6 +172,7 @@ _SIMS = {
     "jobs": "int",
     "timeout": "num",
     "clips": "list",
+    "formats": "list",
 }
 _CLIP = {
     "name": "str",
@@ -186,8 +190,23 @@ _CLIP = {
     "keys": "str",
     "args": "list",
     "python": "str",
+    "description": "str",
+    "formats": "list",
 }
 _SCRIPT_ONLY = ("keys", "args", "python")
+CLIP_FORMATS = ("replay", "video")
+
+
+def _formats(ck: _Checker, node: yaml.Node, where: str) -> tuple[str, ...] | None:
+    """A ``formats:`` list: some of replay and video, at least one, each once."""
+    import yaml
+
+    items = node.value if isinstance(node, yaml.SequenceNode) else None
+    values = [i.value for i in items or () if isinstance(i, yaml.ScalarNode)]
+    if not items or len(values) != len(items) or any(v not in CLIP_FORMATS for v in values):
+        ck.fail(node, where, "must be a list of replay and/or video, e.g. [replay, video]")
+        return None
+    return tuple(dict.fromkeys(values))
 
 
 def _values(ck: _Checker, nodes: dict[str, yaml.Node], schema: dict[str, str], prefix: str) -> dict:
@@ -332,6 +351,10 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
             ck.fail(nodes["size"], "sims.size", "must look like 480x360")
         else:
             kwargs["width"], kwargs["height"] = int(m.group(1)), int(m.group(2))
+    if "formats" in nodes:
+        formats = _formats(ck, nodes["formats"], "sims.formats")
+        if formats is not None:
+            kwargs["formats"] = formats
     clips = []
     if "clips" in nodes:
         if not isinstance(nodes["clips"], yaml.SequenceNode):
@@ -343,6 +366,10 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 cv = _values(ck, item_keys, _CLIP, where + ".")
                 if not _require(ck, item, cv, "name", where):
                     continue
+                if "formats" in item_keys:
+                    cv["formats"] = _formats(ck, item_keys["formats"], f"{where}.formats")
+                    if cv["formats"] is None:
+                        continue
                 if ("scenario" in cv) == ("script" in cv):
                     ck.fail(item, where, "give exactly one of 'scenario' or 'script'")
                     continue

@@ -96,8 +96,9 @@ class ClipProgress:
         elif status == "started":
             row.started = time.monotonic()
             self._update(event.name, state="simulating")
-            if not self.live:
-                self.log(f"clip {event.name}: started ({row.total} frames)")
+            if not self.live:  # a replay alone draws no frames
+                what = f"{row.total} frames" if row.total else "replay"
+                self.log(f"clip {event.name}: started ({what})")
         elif status == "progress":
             row.frames = event.frames
             self._update(event.name, completed=event.frames, state=STATES.get(event.phase, ""))
@@ -105,6 +106,9 @@ class ClipProgress:
             row.frames = row.total = event.frames or row.total
             rate = row.frames / event.seconds if event.seconds > 0 else 0.0
             self._update(event.name, completed=row.frames, total=row.total, state="done")
+            if not row.frames:
+                self._say(f"clip {event.name}: done, replay in {event.seconds:.1f} s")
+                return
             line = f"clip {event.name}: done, {row.frames} frames in {event.seconds:.1f} s"
             self._say(f"{line} ({rate:.1f} frames/s)")
         elif status == "cached":

@@ -12,9 +12,9 @@ gallery entry show a placeholder with the error. The failure is remembered in th
 from __future__ import annotations
 
 import hashlib
-import json
 from pathlib import Path, PurePosixPath
 
+from sitegen import clip_view as words
 from sitegen.config import ClipConfig, Config
 from sitegen.errors import Diagnostics
 from sitegen.i18n import strings as interface_strings
@@ -25,13 +25,19 @@ from sitegen.output import OutFile, file_digest
 from sitegen.pages import root_prefix
 from sitegen.partials import Partials, trusted
 
-OUT_NAMES = {
+OUT_NAMES = {  # as sims.clip_cache.FILES (kept here: importing sims costs a quick build time)
     "video": "clip.webm",
+    "mp4": "clip.mp4",
     "poster": "poster.png",
     "csv": "data.csv",
     "json": "data.json",
     "plot": "path.svg",
+    "series": "series.svg",
+    "replay": "replay.glb",
+    "replay_js": "replay.js",
 }
+VIEWER = "assets/replay/replay.js"  # the replay viewer (templates/assets/replay/)
+THREE = "assets/replay/three.min.js"
 
 
 def _sims_code_digest() -> str:
@@ -57,6 +63,8 @@ class SimsIntegration(Integration):
         self.strings = interface_strings(config.language)
         self._clips = {clip.name: clip for clip in self.sims.clips}
         self.partials = Partials(config)
+        self._viewer_pages: set[str] = set()  # pages that already load the replay viewer
+        self._page = ""  # the page whose clips are being rendered
 
     def clip_title(self, name: str) -> str:
         """The clip's ``title:`` (gallery heading, caption link), else its name."""
@@ -100,6 +108,7 @@ class SimsIntegration(Integration):
             "timeout": clip.timeout,
             "camera": clip.camera,
             "trail": clip.trail,
+            "formats": tuple(clip.formats or self.sims.formats),
         }
         if clip.script is not None:
             scene = clip.scene
@@ -182,33 +191,74 @@ class SimsIntegration(Integration):
     def _has(self, name: str, key: str) -> bool:
         return f"clips/{name}/{OUT_NAMES[key]}" in self._files
 
+    def _inline_svg(self, name: str, key: str):
+        """A plot of the clip as inline markup (so the theme's colours apply), or None."""
+        r = self.results.get(name)
+        path = getattr(r, "files", {}).get(key) if r is not None else None
+        if path is None or not Path(path).is_file():
+            return None
+        text = Path(path).read_text(encoding="utf-8")
+        return trusted(text) if text.startswith("<svg ") else None  # written by sims/plot.py
+
     def clip_view(self, name: str, root: str, caption: bool = True) -> dict:
-        """What ``partials/clip.html`` shows of a clip: its video, or a placeholder of its size
-        with the reason it has none; a caption linking to the gallery unless ``caption`` is
-        False (the gallery itself)."""
+        """What ``partials/clip.html`` shows of a clip: its replay (3D viewer over the poster) or
+        its video, or a placeholder of its size with the reason it has none; a caption
+        linking to the gallery unless ``caption`` is False (the gallery itself)."""
         t = self.strings
         anchor = f"clip-{name}"
-        view: dict = {"name": name, "anchor": anchor, "title": self.clip_title(name)}
+        title = self.clip_title(name)
+        view: dict = {"name": name, "anchor": anchor, "title": title, "kind": "placeholder"}
         gallery = root + url_quote(f"{self._section()}/index.html") + "#" + url_quote(anchor)
+        view["video"] = None
         if name in self.results:
             r = self.results[name]
             meta = r.meta
+            formats = list(meta.get("formats") or ["video"])
             w, h = meta.get("width", self.sims.width), meta.get("height", self.sims.height)
-            view["video"] = {
-                "base": root + url_quote(f"clips/{name}/"),
-                "width": int(w),
-                "height": int(h),
-                "poster": self._has(name, "poster"),
-            }
+            base = root + url_quote(f"clips/{name}/")
+            poster = base + "poster.png" if self._has(name, "poster") else None
+            videos = [
+                {"src": base + OUT_NAMES[k], "type": kind}
+                for k, kind in (("video", "video/webm; codecs=vp8"), ("mp4", "video/mp4"))
+                if self._has(name, k)
+            ]
+            replay = "replay" in formats and self._has(name, "replay_js")
+            view["kind"] = "replay" if replay else "video"
+            if replay:
+                speed = float(meta.get("speed") or 1)
+                view["replay"] = {
+                    "data": base + OUT_NAMES["replay_js"],
+                    "glb": base + OUT_NAMES["replay"],
+                    "three": root + THREE,
+                    "viewer": root + VIEWER,
+                    "load_viewer": self._first_replay_on(),
+                    "width": int(w),
+                    "height": int(h),
+                    "duration": f"{float(meta.get('duration', 0)):g}",
+                    "speeds": words.speed_choices(speed),
+                    "poster": poster,
+                    "series": self._inline_svg(name, "series"),
+                    "t": {k: t[k] for k in words.VIEWER_WORDS},
+                    "label": t["replay_label"].format(title=title),
+                    "alt": t["first_frame"].format(title=title),
+                    "unit": t["seconds_unit"],
+                    "videos": videos,
+                }
+            else:
+                view["video"] = {
+                    "base": base,  # project templates older than MP4 name clip.webm from here
+                    "sources": videos,
+                    "width": int(w),
+                    "height": int(h),
+                    "poster": poster,
+                }
             view["caption"] = caption and {
                 "href": gallery,
-                "description": str(meta.get("description", name)),
-                "length": f"{float(meta.get('duration', 0)):.1f} {t['seconds_unit']}",
+                "facts": words.facts(meta, t, replay=replay),
                 "note": t["stale"] if r.stale else "",
             }
             return view
         waiting = name in self.pending and name not in self.failed
-        view["video"] = None
         view["placeholder"] = {
             "waiting": waiting,
             "status": t["rendering"] if waiting else t["not_rendered"],
@@ -222,6 +272,13 @@ class SimsIntegration(Integration):
         }
         return view
 
+    def _first_replay_on(self) -> bool:
+        """Whether this replay's figure loads the viewer script: the first of its page only."""
+        if self._page in self._viewer_pages:
+            return False
+        self._viewer_pages.add(self._page)
+        return True
+
     def clip_html(self, name: str, root: str) -> str:
         """A clip's figure with its caption, from the theme's ``partials/clip.html``."""
         return self.partials.render("clip", clip=self.clip_view(name, root))
@@ -233,6 +290,7 @@ class SimsIntegration(Integration):
         def clip(arg: str, node: Node) -> str:
             name = arg.strip()
             if name in self.results or name in self.failed or name in self.pending:
+                self._page = node.url
                 return self.clip_html(name, root_prefix(node.url))
             known = ", ".join(c.name for c in self.sims.clips) or "none configured"
             raise LookupError(f"no clip named '{name}' in sitegen.yml (known: {known})")
@@ -243,6 +301,7 @@ class SimsIntegration(Integration):
         """The gallery: every clip with poster, length, parameters, data, plot and source."""
         rel = PurePosixPath(self._section(), "index.md")
         root = "../" * (len(rel.parts) - 1)
+        self._page = rel.as_posix()
         items, toc = [], []
         for clip in self.sims.clips:
             view = self.clip_view(clip.name, root, caption=False)
@@ -253,29 +312,37 @@ class SimsIntegration(Integration):
                 items.append(item)
                 continue
             meta = self.results[clip.name].meta
+            formats = list(meta.get("formats") or ["video"])
             base = root + url_quote(f"clips/{clip.name}/")
-            params = json.dumps(meta.get("params", {}), ensure_ascii=False, sort_keys=True)
             item["rows"] = [
-                (
-                    strings["duration"],
-                    f"{float(meta.get('duration', 0)):.1f} {strings['seconds_unit']} · "
-                    f"{meta.get('frames', '?')} {strings['frames']} · "
-                    f"{meta.get('width')}×{meta.get('height')} @ {meta.get('fps')} fps",
-                ),
-                (strings["parameters"], f"{strings['seed']} {meta.get('seed')} · {params}"),
-                (strings["renderer"], str(meta.get("renderer", ""))),
+                (strings["duration"], words.length_text(meta, strings, formats)),
+                (strings["parameters"], words.parameter_text(meta, strings)),
             ]
             item["downloads_label"] = strings["downloads"]
             item["downloads"] = [
                 {"href": base + OUT_NAMES[k], "label": label}
-                for k, label in (("csv", "CSV"), ("json", "JSON"))
+                for k, label in (
+                    ("csv", "CSV"),
+                    ("json", "JSON"),
+                    ("replay", strings["replay_file"]),
+                    ("video", f"{strings['video']} (WebM)"),
+                    ("mp4", f"{strings['video']} (MP4)"),
+                )
                 if self._has(clip.name, k)
             ]
-            item["plot"] = self._has(clip.name, "plot") and {
-                "src": f"{base}path.svg",
-                "alt": f"{strings['trajectory']}: {clip.name}",
+            path_plot = self._inline_svg(clip.name, "plot")
+            item["plot"] = path_plot is not None and {
+                "svg": path_plot,
+                "label": f"{strings['trajectory']}: {view['title']}",
             }
-            item["description"] = str(meta.get("description", ""))
+            series = view["kind"] != "replay" and self._inline_svg(clip.name, "series")
+            item["series"] = series and {"svg": series, "label": strings["series"]}
+            item["description"] = clip.description or str(meta.get("description", ""))
+            item["description_lang"] = (
+                "en"
+                if clip.description is None and not self.config.language.startswith("en")
+                else ""
+            )
             item["source"] = self._source_view(self._source_meta(clip, meta), strings)
             items.append(item)
         body = self.partials.render("gallery", items=items)

@@ -95,7 +95,9 @@ class Theme:
             if folder.is_dir():
                 for f in sorted(folder.rglob("*")):
                     if f.is_file() and not f.name.startswith("."):
-                        data = shrink(f.suffix, f.read_bytes())
+                        data = f.read_bytes()
+                        if not f.name.endswith(".min.js"):  # vendored, minified: as shipped
+                            data = shrink(f.suffix, data)
                         out[f"assets/{f.relative_to(folder).as_posix()}"] = data
         out["assets/pygments.css"] = pygments_css().encode()
         return out

@@ -114,13 +114,12 @@ def test_every_embedded_clip_plays(page, site_url):
     played = 0
     for href in hrefs:
         page.goto(site_url + href)
-        videos = page.locator("video")
-        for i in range(videos.count()):
-            handle = videos.nth(i)
+        replays = page.locator("figure.clip-replay")  # this site's clips are replays
+        for i in range(replays.count()):
+            handle = replays.nth(i)
             handle.scroll_into_view_if_needed()
-            handle.evaluate("v => { v.muted = true; return v.play(); }")
             page.wait_for_function(
-                "v => v.readyState >= 2 && v.videoWidth > 0 && v.currentTime > 0.2",
+                "f => f.dataset.state === 'ready' && f.sitegenReplay.frames > 1",
                 arg=handle.element_handle(),
                 timeout=20000,
             )
@@ -152,19 +151,18 @@ def test_phone_viewport_never_scrolls_sideways(browser, site_url):
 
 @pytest.mark.parametrize("size", ["wide", "phone"])
 def test_gallery_from_file_has_no_gap_above_the_first_clip_and_plays(browser, repo_site, size):
-    """Opened from disk: the gallery's contents box no longer pushes the first video down."""
+    """Opened from disk: the gallery's contents box no longer pushes the first clip down."""
     from browser_kit import SIZES, open_page
 
     with open_page(browser, SIZES[size], repo_site) as pg:
         pg.goto((repo_site / "gallery/index.html").as_uri())
         heading = pg.locator(".gallery-item h2").first.bounding_box()
-        video = pg.locator(".gallery-item video").first
-        box = video.bounding_box()
+        replay = pg.locator(".gallery-item figure.clip-replay").first
+        box = replay.locator(".replay-stage").bounding_box()
         assert box["y"] - (heading["y"] + heading["height"]) < 48, (heading, box)
-        video.evaluate("v => { v.muted = true; return v.play(); }")
         pg.wait_for_function(
-            "v => v.readyState >= 2 && v.currentTime > 0.2",
-            arg=video.element_handle(),
+            "f => f.dataset.state === 'ready' && f.sitegenReplay.frames > 1",
+            arg=replay.element_handle(),
             timeout=20000,
         )
         wide = pg.evaluate("document.documentElement.scrollWidth - innerWidth")
@@ -183,7 +181,7 @@ def test_week_page_with_a_clip_from_file(browser, repo_site, size):
         with_clip = 0
         for href in (h for h in hrefs if h.startswith("stage-2/w7/")):
             pg.goto((repo_site / unquote(href)).as_uri())
-            with_clip += pg.locator("figure.clip video").count()
+            with_clip += pg.locator("figure.clip-replay .replay-stage").count()
             assert pg.locator('#nav [aria-current="page"]').count() == 1
         assert with_clip >= 1
 

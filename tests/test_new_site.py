@@ -134,16 +134,15 @@ def test_new_site_in_the_browser(made, size):
                 assert page.locator("main > h1").inner_text() == "機械設計: 課程"
                 page.goto(url + "stage-1/w1/index.html")
                 assert page.locator("main > h1").inner_text() == "W1 Getting started"
-                img = page.locator(".body img")
+                img = page.locator(".body p > img")
                 assert img.evaluate("i => i.complete && i.naturalWidth > 0")
                 assert page.locator(".tabbed-set label").count() == 3
                 assert page.locator(".admonition").count() == 2
                 assert page.locator(".body .copy").count() >= 4
-                video = page.locator("video")
-                video.scroll_into_view_if_needed()
-                video.evaluate("v => { v.muted = true; return v.play(); }")
+                replay = page.locator("figure.clip-replay")  # a new site's clips: replays
+                replay.scroll_into_view_if_needed()
                 page.wait_for_function(
-                    "v => v.readyState >= 2 && v.videoWidth > 0 && v.currentTime > 0.2",
-                    arg=video.element_handle(),
+                    "f => f.dataset.state === 'ready' && f.sitegenReplay.frames > 0",
+                    arg=replay.element_handle(),
                     timeout=20000,
                 )

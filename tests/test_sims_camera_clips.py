@@ -19,6 +19,7 @@ from sitegen.errors import BuildError
 
 CONFIG = """title: t
 sims:
+  formats: [video]
   size: 128x96
   fps: 8
   clips:

@@ -6,6 +6,7 @@ import xml.etree.ElementTree as ET
 
 from sims.cli import main
 from sims.plot import nice_step, path_svg
+from sims.video import mp4_encoder
 
 
 def test_list_prints_every_scenario(capsys):
@@ -40,7 +41,10 @@ def test_render_writes_clip_files(tmp_path, capsys):
     line = capsys.readouterr().out.strip()
     assert line.startswith("ok      cart-reverse: 10 frames 96x64, rendered")
     names = sorted(p.name for p in (out / "cart-reverse").iterdir())
-    assert names == ["clip.webm", "data.csv", "data.json", "path.svg", "poster.png"]
+    mp4 = ["clip.mp4"] if mp4_encoder() else []  # H.264 where ffmpeg has libx264
+    assert names == [*mp4, "clip.webm", "data.csv", "data.json", "path.svg", "poster.png"] + [
+        "series.svg"
+    ]
     assert main(args) == 0
     assert "cached" in capsys.readouterr().out
 
@@ -66,5 +70,5 @@ def test_path_plot_is_deterministic_svg():
     ns = "{http://www.w3.org/2000/svg}"
     assert len(list(root.iter(ns + "polyline"))) == 2
     texts = [t.text for t in root.iter(ns + "text")]
-    assert "demo <path>" in texts and "run 2" in texts
+    assert "demo <path>" in texts and "#2" in texts
     assert nice_step(0.23) == 0.05 and nice_step(4.0) == 1.0

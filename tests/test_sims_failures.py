@@ -17,6 +17,7 @@ from sitegen_helpers import REPO, run_cli, snapshot, write_tree
 
 from sims.clip_worker import RANGE_FRAMES
 from sims.clips import ClipEvent, ClipSpec, render_clips
+from sims.video import mp4_encoder
 from sitegen.build import BuildOptions, build
 from sitegen.errors import BuildError
 
@@ -65,7 +66,7 @@ def test_a_broken_clip_gets_a_placeholder_and_a_warning_and_fails_strict(tmp_pat
     page = (src / "site" / "index.html").read_text(encoding="utf-8")
     assert 'class="clip clip-failed" id="clip-drive"' in page  # the page builds, with a placeholder
     assert "the left wheel fell off" in page
-    assert '<source src="clips/rev/clip.webm"' in page  # the good clip is still there
+    assert 'data-replay="clips/rev/replay.js"' in page  # the good clip is still there
     gallery = (src / "site" / "gallery" / "index.html").read_text(encoding="utf-8")
     assert "clip-placeholder" in gallery and "the left wheel fell off" in gallery
     assert "drive.py" in gallery  # the script's source is still shown
@@ -88,24 +89,24 @@ def test_a_failure_is_remembered_until_retried_or_changed(tmp_path):
     [warning] = [w for w in warnings_of(report) if "sims.clips[drive]" in w]
     assert "remembered from an earlier build" in warning and "--retry-failed" in warning
     lines, report = build_logged(src, output=tmp_path / "o3", retry_failed=True)
-    assert "clip drive: started (8 frames)" in lines  # tried again, failed again
+    assert "clip drive: started (replay)" in lines  # tried again, failed again
     assert any(
         "the left wheel fell off" in w and "remembered from" not in w for w in warnings_of(report)
     )
     (src / "scripts" / "drive.py").write_text(CART_SCRIPT, encoding="utf-8")  # fixed: new inputs
     lines, report = build_logged(src, output=tmp_path / "o4")
-    assert "clip drive: started (8 frames)" in lines and warnings_of(report) == []
-    assert (tmp_path / "o4" / "clips" / "drive" / "clip.webm").stat().st_size > 0
+    assert "clip drive: started (replay)" in lines and warnings_of(report) == []
+    assert (tmp_path / "o4" / "clips" / "drive" / "replay.glb").stat().st_size > 0
 
 
 def test_the_last_good_render_is_kept_and_marked_stale(tmp_path):
     src = project(tmp_path / "p")
     build_logged(src)
-    good = (src / "site" / "clips" / "drive" / "clip.webm").read_bytes()
+    good = (src / "site" / "clips" / "drive" / "replay.glb").read_bytes()
     (src / "scripts" / "drive.py").write_text(BROKEN, encoding="utf-8")
     _, report = build_logged(src)
     assert any("previous render" in w for w in warnings_of(report))
-    assert (src / "site" / "clips" / "drive" / "clip.webm").read_bytes() == good
+    assert (src / "site" / "clips" / "drive" / "replay.glb").read_bytes() == good
     page = (src / "site" / "index.html").read_text(encoding="utf-8")
     assert "stale" in page and "clip-failed" not in page
 
@@ -113,7 +114,7 @@ def test_the_last_good_render_is_kept_and_marked_stale(tmp_path):
 def test_a_copied_checkout_with_its_cache_renders_nothing(tmp_path):
     src = project(tmp_path / "first")
     lines, _ = build_logged(src)
-    assert sum(line.endswith("frames)") and "started" in line for line in lines) == 2
+    assert sum(line.endswith("(replay)") and "started" in line for line in lines) == 2
     copy = tmp_path / "elsewhere" / "second"
     shutil.copytree(src, copy)
     shutil.rmtree(copy / "site")  # make the copy build its pages (and ask for every clip)
@@ -124,17 +125,24 @@ def test_a_copied_checkout_with_its_cache_renders_nothing(tmp_path):
     ]
     assert warnings_of(report) == []
     first, second = snapshot(src / "site" / "clips"), snapshot(copy / "site" / "clips")
-    assert first == second and len(first) == 10
+    assert first == second and len(first) == 14  # 7 files a replay clip: glb, js, data, plots
 
 
 def test_one_clip_rendered_twice_is_byte_identical_however_ranges_are_shared(tmp_path):
     seconds = (RANGE_FRAMES + 12) / 10  # more than one frame range
-    spec = ClipSpec("arm", "2w1a-random", width=96, height=64, fps=10, seconds=seconds)
+    spec = ClipSpec(
+        "arm", "2w1a-random", width=96, height=64, fps=10, seconds=seconds,
+        formats=("replay", "video"),
+    )  # fmt: skip
     one = render_clips([spec], tmp_path / "a", jobs=1)[0]
     two = render_clips([spec], tmp_path / "b", jobs=2)[0]
     assert one.ok and two.ok, (one.error, two.error)
     assert one.meta["frames"] == RANGE_FRAMES + 12
-    for kind in ("video", "poster", "csv", "json", "plot"):
+    kinds = {"video", "replay", "replay_js", "poster", "csv", "json", "plot", "series"}
+    if mp4_encoder():  # the H.264 MP4 too, where ffmpeg has libx264
+        kinds.add("mp4")
+    assert set(one.files) == kinds == set(two.files)
+    for kind in sorted(kinds):
         assert one.files[kind].read_bytes() == two.files[kind].read_bytes(), kind
     meta = one.files["video"].parent / "meta.json"
     assert meta.read_bytes() == (two.files["video"].parent / "meta.json").read_bytes()

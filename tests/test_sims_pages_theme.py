@@ -43,7 +43,7 @@ def integration(root: Path, templates: dict[str, str] | None = None) -> SimsInte
     integ = SimsIntegration(config, root / "cache", opts)
     integ.results = {"cart": ClipResult("cart", True, stale=True, meta=META)}
     integ.failed = {"broken": 'scene has no "<robot>"'}
-    for name in ("poster.png", "data.csv", "path.svg"):
+    for name in ("clip.webm", "poster.png", "data.csv", "path.svg"):
         integ._files[f"clips/cart/{name}"] = OutFile("digest")
     return integ
 
@@ -57,18 +57,22 @@ def test_default_gallery_and_figures_escape_and_link(tmp_path):
     body = gallery(integ)
     assert body.count('<section class="gallery-item">') == 2
     assert '<h2 id="clip-cart-h">Cart &lt;i&gt;</h2>' in body
-    assert '<source src="../clips/cart/clip.webm" type="video/webm"></video>' in body
+    assert '<source src="../clips/cart/clip.webm" type="video/webm; codecs=vp8"></video>' in body
+    assert "clip.mp4" not in body  # no MP4 file: no source for it
     assert 'poster="../clips/cart/poster.png"' in body
+    assert '<p lang="en">Cart &lt;drives&gt; &amp; stops</p>' not in body  # an English site
     assert "<p>Cart &lt;drives&gt; &amp; stops</p>" in body
-    assert '<a href="../clips/cart/data.csv" download>CSV</a></dd>' in body  # no JSON file
-    assert '<img class="plot" src="../clips/cart/path.svg"' in body
+    assert (  # no JSON file, no MP4
+        '<a href="../clips/cart/data.csv" download>CSV</a> · '
+        '<a href="../clips/cart/clip.webm" download>Video (WebM)</a></dd>'
+    ) in body
     assert "<code>scene has no &#34;&lt;robot&gt;&#34;</code>" in body
     assert "<figcaption>" not in body  # the gallery is what captions link to
     node = SimpleNamespace(url="w/page.html")
     figure = integ.directives()["clip"]("cart", node)
     assert figure.startswith('<figure class="clip" id="clip-cart">')
     assert (
-        '<figcaption>Cart &lt;drives&gt; &amp; stops · 5.0 s · <a href="../gallery/index.html'
+        '<figcaption>5.0 s simulated · video 0:05 · <a href="../gallery/index.html'
         '#clip-cart">Cart &lt;i&gt;</a> <span class="stale">(' in figure
     )
     failed = integ.directives()["clip"]("broken", node)

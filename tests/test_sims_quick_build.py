@@ -1,7 +1,7 @@
 """``BuildOptions(render_clips=False)``: a build that renders no clip (``sitegen serve``'s first).
 
 Cached clips are shown, the others get a "rendering…" placeholder with no warning, and the next
-full build is not skipped as up to date: it renders them and the pages show the videos.
+full build is not skipped as up to date: it renders them and the pages show the replays.
 """
 
 from __future__ import annotations
@@ -35,20 +35,20 @@ def test_a_quick_build_shows_placeholders_then_the_full_build_renders(tmp_path):
     report, home = run(render_clips=False)
     assert [str(d) for d in report.diagnostics] == []
     assert home.count('class="clip clip-pending"') == 2 and "rendering…" in home
-    assert "<video" not in home and not (out / "clips").exists()
+    assert "clip-replay" not in home and not (out / "clips").exists()
     assert not any("started" in line for line in lines)
 
     report, home = run()
     assert [str(d) for d in report.diagnostics] == [] and not report.up_to_date
-    assert home.count("<video") == 2 and "clip-pending" not in home
-    assert (out / "clips" / "two" / "clip.webm").is_file()
+    assert home.count('class="clip clip-replay"') == 2 and "clip-pending" not in home
+    assert (out / "clips" / "two" / "replay.glb").is_file()
 
     lines.clear()
     write_tree(source, {"sitegen.yml": CONFIG.replace("seconds: 2", "seconds: 1.5")})
     report, home = run(render_clips=False)  # one clip changed: its last good render meanwhile
     assert [str(d) for d in report.diagnostics] == []
-    assert home.count("<video") == 2 and "clip-pending" not in home
+    assert home.count('class="clip clip-replay"') == 2 and "clip-pending" not in home
     assert not any("started" in line for line in lines)
     report, home = run()
     assert any("clip two: started" in line for line in lines)
-    assert home.count("<video") == 2
+    assert home.count('class="clip clip-replay"') == 2

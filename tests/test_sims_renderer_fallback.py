@@ -60,7 +60,8 @@ def test_site_build_logs_the_reason(broken_egl, tmp_path):
     source = write_tree(
         tmp_path / "src",
         {
-            "sitegen.yml": "title: t\nsims:\n  size: 96x64\n  fps: 8\n  clips:\n"
+            "sitegen.yml": "title: t\nsims:\n  size: 96x64\n  fps: 8\n  formats: [video]\n"
+            "  clips:\n"
             "    - {name: rev, scenario: cart-reverse, seconds: 1}\n",
             "content/index.md": "# Home\n\n::: clip rev\n",
         },

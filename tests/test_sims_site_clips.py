@@ -42,7 +42,8 @@ def test_scene_file_and_zeromq_clips_render_strict_with_the_default_renderer(tmp
     source = write_tree(
         tmp_path / "src",
         {
-            "sitegen.yml": "title: t\nsims:\n  size: 96x64\n  fps: 8\n  clips:\n"
+            "sitegen.yml": "title: t\nsims:\n  size: 96x64\n  fps: 8\n  formats: [replay, video]\n"
+            "  clips:\n"
             "    - {name: arm, script: lua_arm_watch.py, scene: arm.simscene.xml, seconds: 2}\n"
             "    - {name: crawl, script: crawl.py, scene: 2w1a, seconds: 2, speed: 2}\n",
             "lua_arm_watch.py": lua,
@@ -57,10 +58,13 @@ def test_scene_file_and_zeromq_clips_render_strict_with_the_default_renderer(tmp
     assert [str(d) for d in report.diagnostics] == []
     for name in ("arm", "crawl"):
         assert (out / "clips" / name / "clip.webm").stat().st_size > 1000
+        assert (out / "clips" / name / "replay.glb").stat().st_size > 1000
         meta = json.loads((out / "clips" / name / "data.json").read_text(encoding="utf-8"))
         assert meta["fps"] == 8
     html = (out / "index.html").read_text(encoding="utf-8")
-    assert "clip-failed" not in html and html.count("<video") == 2
-    assert "(scene arm.simscene.xml, seed 0)" in html  # the scene's name, not a checkout path
-    assert str(tmp_path) not in html
+    assert "clip-failed" not in html and html.count('class="clip clip-replay"') == 2
+    assert html.count('/clip.webm">WebM</a>') == 2  # the video beside each replay
+    gallery = (out / "gallery" / "index.html").read_text(encoding="utf-8")
+    assert "(scene arm.simscene.xml, seed 0)" in gallery  # the scene's name, not a checkout path
+    assert str(tmp_path) not in html + gallery
     assert os.environ.get("SIMS_RENDERER") is None

@@ -87,6 +87,7 @@ SIMS_CFG = """title: t
 sims:
   size: 96x64
   fps: 8
+  formats: [video]
   clips:
     - {name: rev, scenario: cart-reverse, seconds: 1.5}
 """
@@ -115,11 +116,11 @@ def test_clip_directive_embeds_a_browser_friendly_video(sims_site):
         'poster="clips/rev/poster.png"',
     ):
         assert attr in video
-    assert '<source src="clips/rev/clip.webm" type="video/webm">' in page
+    assert '<source src="clips/rev/clip.webm" type="video/webm; codecs=vp8">' in page
     for name in ("clip.webm", "poster.png", "data.csv", "data.json", "path.svg"):
         assert (out / "clips/rev" / name).stat().st_size > 0
     gallery = (out / "gallery/index.html").read_text(encoding="utf-8")
-    assert 'id="clip-rev"' in gallery and "data.csv" in gallery and "path.svg" in gallery
+    assert 'id="clip-rev"' in gallery and "data.csv" in gallery and 'class="plot-svg"' in gallery
     assert "cart_reverse.py" in gallery  # the scenario's source is shown
     assert check_site(out) == []
 

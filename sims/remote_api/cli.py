@@ -1,6 +1,6 @@
 """``sitegen remote-api``: run CoppeliaSim legacy remote API scripts on the pybullet scenes.
 
-    sitegen remote-api run SCRIPT [--scene 2w1a|cart|PATH] [--record OUT.webm] [--realtime]
+    sitegen remote-api run SCRIPT [--scene 2w1a|cart|PATH] [--record OUT.webm|OUT.glb] [--realtime]
                            [--after SECONDS] [--seed N] [--timeout S] [--server KIND]
                            [--stdin FILE] [--strict] [-- ARGS]
     sitegen remote-api functions        # which simx* functions are emulated
@@ -125,9 +125,10 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--record",
-        metavar="OUT.webm",
+        metavar="OUT.webm|OUT.glb",
         help="also render a clip: OUT.webm plus OUT.png (poster), OUT.csv, OUT.json "
-        "and OUT.svg (path), like the gallery's",
+        "and OUT.svg (path), like the gallery's; OUT.glb records a 3D replay (glTF) instead "
+        "of a video",
     )
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
@@ -335,7 +336,8 @@ def record_clip(
 
     width, _, height = args.size.partition("x")
     out = Path(args.record)
-    stem = out.with_suffix("") if out.suffix == ".webm" else out
+    stem = out.with_suffix("") if out.suffix in (".webm", ".glb") else out
+    formats = ("replay",) if out.suffix == ".glb" else ("video",)  # OUT.glb: a 3D replay
     params = {
         "scene": scene,
         "after": args.after,
@@ -356,11 +358,13 @@ def record_clip(
         seconds=None if seconds is None else round(seconds + MARGIN, 3),
         seed=args.seed,
         params=params,
+        formats=formats,
     )
     suffix = {"video": ".webm", "poster": ".png", "csv": ".csv", "json": ".json", "plot": ".svg"}
+    suffix |= {"mp4": ".mp4", "series": ".series.svg", "replay": ".glb", "replay_js": ".glb.js"}
     stem.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="remote-api-clip-") as tmp:
-        _, fallback = render_job(
+        meta, fallback = render_job(
             {
                 "spec": asdict(spec),
                 "target": TARGET,
@@ -370,6 +374,8 @@ def record_clip(
         )
         written = []
         for kind, name in FILES.items():
+            if kind not in meta["files"] or kind == "replay_js":  # asked for; pages only
+                continue
             target = stem.parent / (stem.name + suffix[kind])
             shutil.copyfile(Path(tmp) / name, target)
             written.append(target)

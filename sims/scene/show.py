@@ -254,13 +254,18 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
     )
     conv.add_argument("path", help="the scene file")
     conv.add_argument("-o", "--output", help="file to write (default: standard output)")
-    for p in (show, conv):  # errors always print
+    from sims.replay.cli import add_parser, export
+
+    glb = add_parser(sub)
+    for p in (show, conv, glb):  # errors always print
         add_verbosity(
             p,
             "print nothing but the scene's data and errors",
             "also say on standard error what was read and written",
         )
     args = parser.parse_args(argv)
+    if args.command == "export":  # a bundled name or a file, built into a World
+        return export(args, _clean)
     try:
         scene = load_scene(args.path)
     except SceneError as exc:
