@@ -30,19 +30,19 @@ class JointMotors:
         @property
         def _cid(self) -> int: ...
 
-        def _joint(self, handle: int | str) -> JointRef: ...
+        def joint(self, handle: int | str) -> JointRef: ...
 
         def moved(self) -> None: ...
 
     def joint_position(self, handle: int | str) -> float:
-        j = self._joint(handle)
+        j = self.joint(handle)
         if j.kind == "spherical":
             return 0.0
         q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
         return j.zero + j.sign * q
 
     def joint_velocity(self, handle: int | str) -> float:
-        j = self._joint(handle)
+        j = self.joint(handle)
         if j.kind == "spherical":
             return 0.0
         return j.sign * p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
@@ -50,7 +50,7 @@ class JointMotors:
     def set_joint_target_position(self, handle: int | str, rad: float) -> None:
         """Position control, clamped to the joint's CoppeliaSim range. A spring-damper joint
         takes the target as its spring's rest position."""
-        j = self._joint(handle)
+        j = self.joint(handle)
         if j.kind == "spherical":
             return
         if j.lower is not None and j.upper is not None:
@@ -80,7 +80,7 @@ class JointMotors:
         On a position-controlled joint (the 2W1A arm) this switches it to velocity control
         until the next set_joint_target_position; CoppeliaSim would instead keep position
         control and ignore the velocity. Scripts in the course never do this."""
-        j = self._joint(handle)
+        j = self.joint(handle)
         if j.kind == "spherical":
             return
         self._springs.pop(j.name, None)
@@ -97,7 +97,7 @@ class JointMotors:
     def set_joint_max_force(self, handle: int | str, force: float) -> None:
         """The motor's force/torque limit (CoppeliaSim's setJointMaxForce); the motor keeps
         its mode and its last target."""
-        j = self._joint(handle)
+        j = self.joint(handle)
         new = dataclasses.replace(j, max_force=force)
         self._joints[j.name] = new
         self.model.joints[self.model.joints.index(j)] = new
@@ -110,7 +110,7 @@ class JointMotors:
     def set_joint_position(self, handle: int | str, rad: float) -> None:
         """Put a joint at ``rad`` at once (CoppeliaSim's setJointPosition). A passive-mode
         joint stays there; a motor keeps its own target."""
-        j = self._joint(handle)
+        j = self.joint(handle)
         if j.kind == "spherical":
             return
         p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)

@@ -211,25 +211,44 @@ class World(JointMotors):
     def is_joint(self, handle: int) -> bool:
         return self.name_of(handle) in self._joints
 
-    def _lookup(self, handle: int | str) -> str:
+    def object_name(self, handle: int | str) -> str:
+        """The name of a handle (or a name): KeyError when the scene has no such object."""
         name = handle if isinstance(handle, str) else self.name_of(handle)
         if name is None or name not in self._handles:
             raise KeyError(f"no object with handle {handle!r} in scene {self.scene!r}")
         return name
 
-    def _joint(self, handle: int | str) -> JointRef:
-        name = self._lookup(handle)
+    def joint(self, handle: int | str) -> JointRef:
+        """The joint's record (its pybullet body and index, limits, mode): KeyError when the
+        object is not a joint."""
+        name = self.object_name(handle)
         if name not in self._joints:
             raise KeyError(f"{name!r} is not a joint")
         return self._joints[name]
 
+    def joints(self) -> list[JointRef]:
+        """Every joint, in the scene's order."""
+        return list(self._joints.values())
+
+    def motor_command(self, handle: int | str) -> tuple[str, float] | None:
+        """The last command sent to the joint's motor: ("position", rad or m) or ("velocity",
+        rad/s or m/s); None when none was sent since the (re)start."""
+        return self._commands.get(self.joint(handle).name)
+
+    def proximity_sensor(self, handle: int | str) -> ProxSensor:
+        """The proximity sensor's record (its frame on a link and its rays)."""
+        name = self.object_name(handle)
+        if name not in self._sensors:
+            raise KeyError(f"{name!r} is not a proximity sensor")
+        return self._sensors[name]
+
     # -- poses -------------------------------------------------------------------------------
     def object_pose(self, handle: int | str) -> Pose:
         """World position and quaternion (xyzw) of the object's CoppeliaSim frame."""
-        name = self._lookup(handle)
+        name = self.object_name(handle)
         if name in self._joints:
             j = self._joints[name]
-            pos, orn = self._link_frame(j.body, j.index)
+            pos, orn = self.link_frame(j.body, j.index)
             if j.own_frame and j.kind != "spherical":
                 q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
                 if j.kind == "prismatic":
@@ -243,11 +262,13 @@ class World(JointMotors):
             ref = ObjectRef(name, s.body, s.link, s.offset_pos, s.offset_orn)
         else:
             ref = self._objects[name]
-        pos, orn = self._link_frame(ref.body, ref.link)
+        pos, orn = self.link_frame(ref.body, ref.link)
         pos, orn = p.multiplyTransforms(pos, orn, ref.offset_pos, ref.offset_orn)
         return tuple(pos), tuple(orn)  # type: ignore[return-value]
 
-    def _link_frame(self, body: int, link: int) -> Pose:
+    def link_frame(self, body: int, link: int) -> Pose:
+        """World frame of a pybullet link (``link`` -1: the body's base frame, not its centre
+        of mass; ``body`` -1: the world)."""
         c = self._cid
         if body < 0:  # a frame fixed in the world
             return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
@@ -339,9 +360,15 @@ class World(JointMotors):
 
             data["visuals"] = create_visuals(c, data["looks"])
         for v in data.get("visuals", ()):
-            pos, orn = self._link_frame(v.body, v.link)
+            pos, orn = self.link_frame(v.body, v.link)
             pos, orn = p.multiplyTransforms(pos, orn, *v.offset)
             p.resetBasePositionAndOrientation(v.uid, pos, orn, physicsClientId=c)
+
+    def new_render_sequence(self) -> None:
+        """Frames drawn from now on start a new sequence (a clip's frame range): the renderer
+        draws its first frame at a size twice (sims/render.py)."""
+        if self._renderer is not None:
+            self._renderer.new_sequence()
 
     @property
     def renderer(self) -> str:
