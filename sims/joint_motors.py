@@ -9,11 +9,13 @@ spring, free) picks the pybullet motor set up after every (re)build.
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import TYPE_CHECKING
 
-from sims.models.common import JointRef, SceneModel
+from sims.models.common import JointRef, SceneModel, Vec3
 from sims.quiet import pybullet as p
 
+Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
 HOLD_FORCE = 1e4  # N or N·m: a kinematic (passive-mode) joint is held where it is set
 
 
@@ -34,10 +36,14 @@ class JointMotors:
 
         def moved(self) -> None: ...
 
+        def link_frame(self, body: int, link: int) -> Pose: ...
+
     def joint_position(self, handle: int | str) -> float:
         j = self.joint(handle)
         if j.kind == "spherical":
             return 0.0
+        if j.closure is not None:
+            return self._closure_position(j)
         q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
         return j.zero + j.sign * q
 
@@ -45,7 +51,53 @@ class JointMotors:
         j = self.joint(handle)
         if j.kind == "spherical":
             return 0.0
+        if j.closure is not None:
+            return self._closure_velocity(j)
         return j.sign * p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
+
+    def _closure_frames(self, j: JointRef) -> tuple[Pose, Pose]:
+        """A closing joint's frame on its parent link and on its child link, in the world."""
+        c = j.closure
+        assert c is not None
+        a = p.multiplyTransforms(*self.link_frame(j.body, j.index), *c.parent_frame)
+        b = p.multiplyTransforms(*self.link_frame(c.child_body, c.child_link), *c.child_frame)
+        return a, b  # type: ignore[return-value]
+
+    def _closure_position(self, j: JointRef) -> float:
+        a, b = self._closure_frames(j)
+        pos, (x, y, z, w) = p.multiplyTransforms(*p.invertTransform(*a), *b)
+        if j.kind == "prismatic":
+            return pos[2]
+        return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+
+    def _closure_velocity(self, j: JointRef) -> float:
+        c = j.closure
+        assert c is not None
+        a, _ = self._closure_frames(j)
+        axis = p.getMatrixFromQuaternion(a[1])[2::3]
+        lin_a, ang_a = self.link_velocity(j.body, j.index)
+        lin_b, ang_b = self.link_velocity(c.child_body, c.child_link)
+        rel = ang_b if j.kind != "prismatic" else lin_b
+        base = ang_a if j.kind != "prismatic" else lin_a
+        return sum((rel[k] - base[k]) * axis[k] for k in range(3))
+
+    def link_velocity(self, body: int, link: int) -> tuple[Vec3, Vec3]:
+        """Linear velocity of a link's centre of mass and its angular velocity (world frame);
+        zero for the world (``body`` -1)."""
+        c = self._cid
+        if body < 0:
+            return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        if link < 0:
+            lin, ang = p.getBaseVelocity(body, physicsClientId=c)
+            return tuple(lin), tuple(ang)  # type: ignore[return-value]
+        state = p.getLinkState(body, link, computeLinkVelocity=1, physicsClientId=c)
+        return tuple(state[6]), tuple(state[7])  # type: ignore[return-value]
+
+    def _unmotored(self, j: JointRef, what: str) -> None:
+        """A closing joint has no motor (it is constraints): the command is noted, once."""
+        note = f"{j.name}: closes a loop and has no motor here: {what} ignored"
+        if note not in self.model.notes:
+            self.model.notes.append(note)
 
     def set_joint_target_position(self, handle: int | str, rad: float) -> None:
         """Position control, clamped to the joint's CoppeliaSim range. A spring-damper joint
@@ -55,6 +107,8 @@ class JointMotors:
             return
         if j.lower is not None and j.upper is not None:
             rad = min(max(rad, j.lower), j.upper)
+        if j.closure is not None:
+            return self._unmotored(j, "target position")
         if j.mode == "spring":
             self._springs[j.name] = rad
             return
@@ -83,6 +137,8 @@ class JointMotors:
         j = self.joint(handle)
         if j.kind == "spherical":
             return
+        if j.closure is not None:
+            return self._unmotored(j, "target velocity")
         self._springs.pop(j.name, None)
         self._commands[j.name] = ("velocity", rad_s)
         p.setJointMotorControl2(
@@ -113,6 +169,8 @@ class JointMotors:
         j = self.joint(handle)
         if j.kind == "spherical":
             return
+        if j.closure is not None:
+            return self._unmotored(j, "set position")
         p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
         self.moved()  # proximity readings see the new pose
         if j.mode == "hold":
@@ -120,6 +178,8 @@ class JointMotors:
 
     def _init_motor(self, j: JointRef) -> None:
         c = self._cid
+        if j.closure is not None:
+            return
         if j.kind == "spherical":  # free, or held where it is (pybullet's default motor off)
             quat = p.getJointStateMultiDof(j.body, j.index, physicsClientId=c)[0]
             force = HOLD_FORCE if j.mode == "hold" else 0.0

@@ -26,7 +26,7 @@ import numpy as np
 
 from sims.joint_motors import JointMotors
 from sims.models import build_scene
-from sims.models.common import JointRef, ObjectRef, ProxSensor, SceneModel
+from sims.models.common import IDENTITY, JointRef, ObjectRef, ProxSensor, SceneModel
 from sims.proximity import Hit, ProximitySensors
 from sims.quiet import pybullet as p
 from sims.world_tree import TreeEntry, make_tree
@@ -97,6 +97,9 @@ class World(JointMotors):
         p.setGravity(0, 0, GRAVITY, physicsClientId=c)
         p.setTimeStep(self.timestep, physicsClientId=c)
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
+        physics = getattr(self.source, "physics", None)
+        if physics is not None:  # the scene's own solver settings (CoppeliaSim saves them)
+            p.setPhysicsEngineParameter(numSolverIterations=physics.iterations, physicsClientId=c)
         if isinstance(self.source, str):
             self.model: SceneModel = build_scene(self.source, c, self.seed, **self.scene_options)
         else:
@@ -248,6 +251,8 @@ class World(JointMotors):
         name = self.object_name(handle)
         if name in self._joints:
             j = self._joints[name]
+            if j.closure is not None:
+                return self._closure_frames(j)[0]
             pos, orn = self.link_frame(j.body, j.index)
             if j.own_frame and j.kind != "spherical":
                 q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
@@ -262,8 +267,24 @@ class World(JointMotors):
             ref = ObjectRef(name, s.body, s.link, s.offset_pos, s.offset_orn)
         else:
             ref = self._objects[name]
+            if ref.via:
+                return self._hanging_pose(ref)
         pos, orn = self.link_frame(ref.body, ref.link)
         pos, orn = p.multiplyTransforms(pos, orn, ref.offset_pos, ref.offset_orn)
+        return tuple(pos), tuple(orn)  # type: ignore[return-value]
+
+    def _hanging_pose(self, ref: ObjectRef) -> Pose:
+        """An object under a loop's closing joint: the joint's frame on its parent link, moved
+        by the joint's position, then the object's offset (sims/scene/loops.py)."""
+        j = self._joints[ref.via]
+        pos, orn = self._closure_frames(j)[0]
+        q = self.joint_position(j.name)
+        if j.kind == "prismatic":
+            move: Pose = ((0.0, 0.0, q), IDENTITY)
+        else:
+            move = ((0.0, 0.0, 0.0), (0.0, 0.0, math.sin(q / 2), math.cos(q / 2)))
+        pos, orn = p.multiplyTransforms(pos, orn, *move)
+        pos, orn = p.multiplyTransforms(pos, orn, *ref.via_offset)
         return tuple(pos), tuple(orn)  # type: ignore[return-value]
 
     def link_frame(self, body: int, link: int) -> Pose:

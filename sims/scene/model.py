@@ -25,6 +25,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from sims.scene.model_mech import IkElement as IkElement  # re-exported: part of the model
+from sims.scene.model_mech import IkGroup as IkGroup
+from sims.scene.model_mech import PathData as PathData
+from sims.scene.model_mech import PathPoint as PathPoint
+from sims.scene.model_mech import Physics as Physics
+
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 RGB = tuple[float, float, float]
@@ -55,6 +61,7 @@ class Mesh:
     color: RGB = (0.8, 0.8, 0.8)  # ambient/diffuse colour
     visible: bool = True
     wireframe: bool = False
+    convex: bool | None = None  # CoppeliaSim's own flag (None: the file does not say)
 
 
 @dataclass(frozen=True)
@@ -157,6 +164,9 @@ class DummyData:
 
     linked_to: int | None = None
     link_type: str = ""
+    follows_path: bool = False  # 3.x: placed on its parent path at its position + ``path_offset``
+    path_offset: float = 0.0
+    free_on_path: bool = False  # ... at the path point nearest to it instead
 
 
 @dataclass(frozen=True)
@@ -223,6 +233,7 @@ class SceneObject:
     camera: CameraData | None = None
     light: LightData | None = None
     dummy: DummyData | None = None
+    path: PathData | None = None
 
 
 @dataclass(frozen=True)
@@ -247,6 +258,8 @@ class Scene:
     gravity: Vec3 = (0.0, 0.0, -9.81)
     notes: tuple[SceneNote, ...] = ()
     time_step: float = 0.05  # the simulation time step saved with the scene (s)
+    physics: Physics = field(default_factory=Physics)
+    ik_groups: tuple[IkGroup, ...] = ()
 
     def by_handle(self) -> dict[int, SceneObject]:
         return {o.handle: o for o in self.objects}

@@ -23,9 +23,10 @@ import struct
 from dataclasses import replace
 
 from sims.scene.errors import SceneError
-from sims.scene.model import Scene, SceneNote, SceneObject, Script
+from sims.scene.model import IkGroup, Physics, Scene, SceneNote, SceneObject, Script
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, chunk_list, top_level
 from sims.scene.ttt_huffman import HuffmanError, decompress
+from sims.scene.ttt_mech import read_ik_group, read_path, read_physics
 from sims.scene.ttt_objects import (
     Common,
     read_camera,
@@ -85,7 +86,6 @@ SETTINGS = {
     "BBK": "old custom user interfaces",
     "COL": "collision objects",
     "DST": "distance objects",
-    "IKO": "IK groups",
     "GRP": "collections",
     "PPL": "path planning tasks",
 }
@@ -173,6 +173,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
     scripts: list[Script] = []
     gravity = (0.0, 0.0, -9.81)
     time_step = 0.05
+    physics = Physics()
+    ik_groups: list[IkGroup] = []
     skipped: dict[str, int] = {}
     unknown_chunks: dict[tuple[str, str], list[str]] = {}
     for c in chunks:
@@ -197,6 +199,9 @@ def read_ttt(data: bytes, source: str) -> Scene:
                     scripts.append(script)
             elif c.name == "DYN":
                 gravity = _gravity(buf, c) or gravity
+                physics = read_physics(buf, c)
+            elif c.name == "IKO":
+                ik_groups.append(read_ik_group(buf, c))
             elif c.name == "SIM":
                 time_step = _time_step(buf, c) or time_step
             elif c.name in SETTINGS:
@@ -224,6 +229,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
         gravity=gravity,
         notes=tuple(notes),
         time_step=time_step,
+        physics=physics,
+        ik_groups=tuple(ik_groups),
     )
 
 
@@ -266,6 +273,8 @@ def _read_object(
             extra["light"] = read_light(buf, own)
         elif kind == "dummy":
             extra["dummy"] = read_dummy(buf, own)
+        elif kind == "path":
+            extra["path"] = read_path(buf, own)
         elif kind == "script":  # CoppeliaSim 4.6+: a script is an object of the tree
             for c in own:
                 if c.name == "Soo":

@@ -192,6 +192,7 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
 def read_dummy(buf: bytes, chunks: list[Chunk]) -> DummyData:
     linked: int | None = None
     link_type = 0
+    flags, offset = 0, 0.0
     for c in chunks:
         f = Fields(buf, c)
         if c.name == "Lli":
@@ -199,7 +200,17 @@ def read_dummy(buf: bytes, chunks: list[Chunk]) -> DummyData:
             linked = handle if handle >= 0 else None
         elif c.name == "Dl2":
             link_type = f.i32()
-    return DummyData(linked_to=linked, link_type=LINK_TYPES.get(link_type, str(link_type)))
+        elif c.name == "Var":  # bits: 1 follows its parent path, 2 free on it
+            flags = f.u8()
+        elif c.name in ("Po4", "Po5", "_o5"):  # offset along the parent path
+            offset = f.real()[0]
+    return DummyData(
+        linked_to=linked,
+        link_type=LINK_TYPES.get(link_type, str(link_type)),
+        follows_path=bit(flags, 1),
+        path_offset=offset,
+        free_on_path=bit(flags, 2),
+    )
 
 
 def read_proximity(buf: bytes, chunks: list[Chunk]) -> ProximitySensorData:
