@@ -80,7 +80,7 @@ class _Planner:
         self.closing_parent: dict[int, tuple[int, int] | None] = {}  # closing joint -> link
         self.bodies: list[Body] = []
         self.where: dict[int, tuple[int, int]] = {}  # handle -> (body, planned link)
-        self.model_of: dict[int, int | None] = {}
+        self.model_of: dict[int, int | None] = {}  # handle -> its tree's top object
         seen: set[int] = set()
         for o in self.kids.get(None, []):
             self._visit(o, IDENTITY_TF, None, None, seen)
@@ -113,7 +113,7 @@ class _Planner:
         full = mul(base, _displacement(o))
         self.full[o.handle] = full
         self.base[o.handle] = base
-        model = o.handle if o.model_base else model
+        model = o.handle if model is None else model  # the tree's root (see _filter_pairs)
         self.model_of[o.handle] = model
         shape = o.shape if o.kind == "shape" else None
         if shape is not None and not shape.dynamics.static:
@@ -163,6 +163,7 @@ def build(scene: Scene, client: int, seed: int = 0, floor: bool | None = None) -
     ``floor``: add sitegen's checker floor (default: only when the scene has no fixed
     respondable shape to stand on)."""
     del seed  # a scene file has no random parts
+    scene = model_overrides(scene)
     plan = _Planner(scene)
     created = [create_body(client, body) for body in plan.bodies]
     _filter_pairs(client, plan, created)
@@ -179,9 +180,36 @@ def build(scene: Scene, client: int, seed: int = 0, floor: bool | None = None) -
     return _model(scene, plan, created, closing)
 
 
+def model_overrides(scene: Scene) -> Scene:
+    """A model's "not dynamic" / "not respondable" override applies to every shape of its
+    tree (CoppeliaSim's cumulative model property): such shapes are built static or not
+    respondable. The Pioneer scene's walls are dynamic shapes in not-dynamic models."""
+    table = scene.by_handle()
+    if not any(o.not_dynamic or o.not_respondable for o in scene.objects):
+        return scene
+    objects = []
+    for o in scene.objects:
+        static = respondable_off = False
+        cur, seen = o, 0
+        while cur is not None and seen < len(table):
+            static |= cur.not_dynamic
+            respondable_off |= cur.not_respondable
+            cur = table.get(cur.parent) if cur.parent is not None else None
+            seen += 1
+        if o.shape is not None and (static or respondable_off):
+            d = o.shape.dynamics
+            d = dataclasses.replace(
+                d, static=d.static or static, respondable=d.respondable and not respondable_off
+            )
+            o = dataclasses.replace(o, shape=dataclasses.replace(o.shape, dynamics=d))
+        objects.append(o)
+    return dataclasses.replace(scene, objects=tuple(objects))
+
+
 def _filter_pairs(client: int, plan: _Planner, created: list[Created]) -> None:
-    """Switch off the link pairs that must not collide: respondable masks (the low byte within
-    one model, the high byte between models), parts of one link, links joined by a joint."""
+    """Switch off the link pairs that must not collide: respondable masks (the low byte
+    between shapes of one tree, the high byte between trees: CoppeliaSim's Bullet plugin
+    compares the shapes' topmost ancestors), parts of one link, links joined by a joint."""
     links: dict[tuple, list] = {}  # (body, uid, row, planned) -> [mask, model]
     for b, made in enumerate(created):
         for row, planned, part, owner in made.parts:

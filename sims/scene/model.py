@@ -234,6 +234,8 @@ class SceneObject:
     light: LightData | None = None
     dummy: DummyData | None = None
     path: PathData | None = None
+    not_dynamic: bool = False  # model override: no shape of its tree is dynamic
+    not_respondable: bool = False  # model override: no shape of its tree responds
 
 
 @dataclass(frozen=True)

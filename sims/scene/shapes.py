@@ -185,7 +185,7 @@ def set_filter(client: int, body: int, link: int, respondable: bool) -> None:
 
 
 def mask_allows(mask_a: int, mask_b: int, same_model: bool) -> bool:
-    """CoppeliaSim's respondable masks: the low byte between shapes of one model, the high byte
-    between shapes of different models."""
+    """CoppeliaSim's respondable masks: the low byte between shapes of one tree (the same
+    topmost ancestor), the high byte between shapes of different trees."""
     bits = 0x00FF if same_model else 0xFF00
     return bool(mask_a & mask_b & bits)

@@ -301,6 +301,8 @@ def _read_object(
         visible=bool(common.layer & 0xFF),
         model_base=common.model_base,
         detectable=common.detectable,
+        not_dynamic=bool(common.model_property & 32),
+        not_respondable=bool(common.model_property & 64),
         raw_type=raw_type,
         **extra,  # type: ignore[arg-type]
     )

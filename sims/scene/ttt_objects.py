@@ -78,6 +78,7 @@ class Common:
         self.model_base = False
         self.layer = 1
         self.detectable = True
+        self.model_property = 0
 
     def read(self, buf: bytes, chunks: list[Chunk]) -> None:
         for c in chunks:
@@ -98,6 +99,8 @@ class Common:
                 self.layer = f.u16()
             elif c.name == "Omp":  # special properties: bits 4-8 detectable by a sensor type
                 self.detectable = bool(f.i32() & DETECTABLE_BITS)
+            elif c.name == "Mpo":  # model properties: 32 not dynamic, 64 not respondable
+                self.model_property = f.i32() & 0x0FFF
 
 
 def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
