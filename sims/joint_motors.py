@@ -38,6 +38,13 @@ class JointMotors:
 
         def link_frame(self, body: int, link: int) -> Pose: ...
 
+    def kinematic(self, j: JointRef) -> bool:
+        """Held where it is put, not driven by a motor: a passive (or dependent) joint, or
+        one in plain IK mode (World tracks the modes: sims/world_mech.py)."""
+        modes = getattr(self, "_modes", {})
+        mode, hybrid = modes.get(j.name, ("force", False))
+        return j.mode == "hold" or mode in ("passive", "dependent") or (mode == "ik" and not hybrid)
+
     def joint_position(self, handle: int | str) -> float:
         j = self.joint(handle)
         if j.kind == "spherical":
@@ -121,7 +128,7 @@ class JointMotors:
             j.index,
             p.POSITION_CONTROL,
             targetPosition=(rad - j.zero) * j.sign,
-            force=HOLD_FORCE if j.mode == "hold" else j.max_force,
+            force=HOLD_FORCE if self.kinematic(j) else j.max_force,
             positionGain=j.position_gain,
             velocityGain=j.velocity_gain,
             physicsClientId=self._cid,
@@ -173,7 +180,7 @@ class JointMotors:
             return self._unmotored(j, "set position")
         p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
         self.moved()  # proximity readings see the new pose
-        if j.mode == "hold":
+        if self.kinematic(j):
             self.set_joint_target_position(j.name, rad)
 
     def _init_motor(self, j: JointRef) -> None:

@@ -22,13 +22,13 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from sims.joint_motors import JointMotors
 from sims.models import build_scene
 from sims.models.common import IDENTITY, JointRef, ObjectRef, ProxSensor, SceneModel
 from sims.proximity import Hit, ProximitySensors
 from sims.quiet import pybullet as p
+from sims.world_drawing import WorldDrawing
+from sims.world_mech import Mechanisms
 from sims.world_tree import TreeEntry, make_tree
 
 Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
@@ -42,7 +42,7 @@ def _scene_label(scene: Any) -> str:
     return str(getattr(scene, "source", "") or "scene")
 
 
-class World(JointMotors):
+class World(JointMotors, WorldDrawing, Mechanisms):
     """One pybullet physics client in DIRECT mode holding one scene ("2w1a" or "cart")."""
 
     def __init__(
@@ -116,8 +116,11 @@ class World(JointMotors):
         self._inertial: dict[int, Pose] = {}
         self._springs: dict[str, float] = {}  # spring-damper joints: rest position
         self._commands: dict[str, tuple[str, float]] = {}  # last motor command per joint
+        self._modes: dict[str, tuple[str, bool]] = {}  # CoppeliaSim joint modes (world_mech)
         for j in self.model.joints:
             self._init_motor(j)
+        self._build_count = getattr(self, "_build_count", 0) + 1
+        self._build_mechanisms()
         self.time = 0.0
         self.steps = 0
 
@@ -358,45 +361,3 @@ class World(JointMotors):
             for cp in p.getContactPoints(robot, obstacle, physicsClientId=self._cid):
                 out.append((by_link.get(cp[3], str(cp[3])), obstacle))
         return out
-
-    # -- rendering ---------------------------------------------------------------------------
-    def render(
-        self, width: int, height: int, follow: str | None = None, camera: Any = None
-    ) -> np.ndarray:
-        """HxWx3 uint8 RGB from a chase camera on ``follow`` (default: the scene's robot), or
-        from ``camera``: (view, projection) matrices (sims.camera's fixed overview)."""
-        self.sync_visuals()
-        if self._renderer is None:
-            from sims.render import Renderer
-
-            self._renderer = Renderer(self, prefer="tinyrenderer")
-        return self._renderer.render(width, height, follow or self.model.robot, camera)
-
-    def sync_visuals(self) -> None:
-        """Put a scene file's visual-only bodies on their links (done before drawing only)."""
-        c = self._cid
-        data = self.model.data
-        if "looks" in data and "visuals" not in data:
-            from sims.scene.bodies import create_visuals
-
-            data["visuals"] = create_visuals(c, data["looks"])
-        for v in data.get("visuals", ()):
-            pos, orn = self.link_frame(v.body, v.link)
-            pos, orn = p.multiplyTransforms(pos, orn, *v.offset)
-            p.resetBasePositionAndOrientation(v.uid, pos, orn, physicsClientId=c)
-
-    def new_render_sequence(self) -> None:
-        """Frames drawn from now on start a new sequence (a clip's frame range): the renderer
-        draws its first frame at a size twice (sims/render.py)."""
-        if self._renderer is not None:
-            self._renderer.new_sequence()
-
-    @property
-    def renderer(self) -> str:
-        """Which renderer ran (or will run): "egl" or "tinyrenderer"."""
-        return "tinyrenderer" if self._renderer is None else self._renderer.name
-
-    @property
-    def renderer_fallback(self) -> str | None:
-        """Why EGL was asked for and TinyRenderer runs instead (None: no fallback)."""
-        return None if self._renderer is None else self._renderer.fallback_reason

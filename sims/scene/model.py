@@ -122,6 +122,8 @@ class JointData:
     offset: float = 0.0
     coefficient: float = 1.0
     screw_pitch: float = 0.0
+    ik_weight: float = 1.0  # how much IK moves this joint (0: not at all)
+    hybrid: bool = False  # IK sets its position target, the motor drives it (dynamic IK)
     spherical_rotation: Quat = IDENTITY  # a spherical joint's saved position
 
 

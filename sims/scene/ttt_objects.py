@@ -152,6 +152,8 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
             v["spherical_rotation"] = (x / norm, y / norm, z / norm, w / norm)
         elif n in ("Jsp", "_sp"):
             v["screw_pitch"] = f.real()[0]
+        elif n in ("Ikw", "_kw"):
+            v["ik_weight"] = f.real()[0]
         elif n == "Dcm":
             dyn_mode = f.i32()
     cyclic = bit(flags, 0)
@@ -168,7 +170,7 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
         else:
             mode = "velocity" if not ctrl else ("spring" if spring else "position")
         if hybrid:
-            notes.append("hybrid (IK + dynamics) joint read as position control")
+            notes.append("hybrid (IK + dynamics) joint: position control, IK sets its target")
             mode, motor, ctrl = "position", True, True
     elif mode_code in (3, 4):
         mode = "dependent"
@@ -188,6 +190,7 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
         mode=mode,
         motor_enabled=motor,
         control_enabled=ctrl,
+        hybrid=hybrid,
         **v,  # type: ignore[arg-type]
     )
 
