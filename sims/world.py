@@ -166,6 +166,8 @@ class World(JointMotors, WorldDrawing, Mechanisms):
         for _ in range(n):
             if self._springs:
                 self._apply_springs()
+            if self._belts:
+                self._drive_belts()
             p.stepSimulation(physicsClientId=self._cid)
             self.steps += 1
             self.time = self.steps * self.timestep

@@ -96,6 +96,11 @@ def _collides(part: S.Part, fixed: bool) -> bool:
     return fixed or part.respondable or not part.static
 
 
+def compound_shape(c: int, parts: list[S.Part]) -> int:
+    """One collision shape for the primitive parts (the first MAX_COMPOUND), or -1."""
+    return _compound(c, parts)[0]
+
+
 def _compound(c: int, parts: list[S.Part]) -> tuple[int, list[S.Part]]:
     """One collision shape for the primitive parts; returns it and the parts left over (meshes,
     and primitives past the first MAX_COMPOUND: pybullet silently keeps only that many shapes
@@ -125,6 +130,14 @@ def _compound(c: int, parts: list[S.Part]) -> tuple[int, list[S.Part]]:
     return col, rest
 
 
+def _apart(parts: list[tuple[S.Part, SceneObject]]) -> set[int]:
+    """On a fixed body, the respondable parts of every shape but the first each get a link of
+    their own, so that one of them can be switched off or set moving alone (a conveyor's belt:
+    World.set_initial_velocity)."""
+    owners = [o.handle for pt, o in parts if pt.respondable]
+    return {id(pt) for pt, o in parts if pt.respondable and owners and o.handle != owners[0]}
+
+
 def create_body(client: int, body: Body) -> Created:
     c = client
     links = body.links
@@ -138,7 +151,9 @@ def create_body(client: int, body: Body) -> Created:
         fixed = body.fixed and i == 0
         mine = [(pt, o) for pt, o in link.parts if _collides(pt, fixed)]
         colliding[i] = mine
-        col, rest = _compound(c, [pt for pt, _ in mine])
+        apart = _apart(mine) if fixed else set()
+        col, rest = _compound(c, [pt for pt, _ in mine if id(pt) not in apart])
+        rest = [pt for pt, _ in mine if id(pt) in apart] + rest
         own_col[i] = col
         in_compound[i] = {id(pt) for pt, _ in mine} - {id(pt) for pt in rest}
         owners = {id(pt): o for pt, o in mine}

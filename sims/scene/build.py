@@ -304,9 +304,13 @@ def _model(
             prox.append(ProxSensor(o.name, uid, row, *offset, sensor_rays.rays(ps), ps.explicit))
             continue
         objects.append(ObjectRef(o.name, uid, row, *offset, *_via(plan, o)))
+    rows: dict[str, list[tuple[int, int]]] = {}
     for made in created:
         for row, _planned, _part, owner in made.parts:
             data.setdefault(("link", made.uid, row), owner.name)
+            if (made.uid, row) not in rows.setdefault(owner.name, []):
+                rows[owner.name].append((made.uid, row))
+    data["collision_rows"] = rows  # shape name -> the pybullet links its collision parts are on
     names = {o.handle: o.name for o in scene.objects}
     tree = [
         TreeNode(o.name, o.kind, names.get(o.parent) if o.parent is not None else None, o.alias)
