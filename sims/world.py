@@ -28,6 +28,7 @@ from sims.models.common import IDENTITY, JointRef, ObjectRef, ProxSensor, SceneM
 from sims.proximity import Hit, ProximitySensors
 from sims.quiet import pybullet as p
 from sims.world_drawing import WorldDrawing
+from sims.world_holds import Holds
 from sims.world_mech import Mechanisms
 from sims.world_tree import TreeEntry, make_tree
 
@@ -42,7 +43,7 @@ def _scene_label(scene: Any) -> str:
     return str(getattr(scene, "source", "") or "scene")
 
 
-class World(JointMotors, WorldDrawing, Mechanisms):
+class World(JointMotors, WorldDrawing, Mechanisms, Holds):
     """One pybullet physics client in DIRECT mode holding one scene ("2w1a" or "cart")."""
 
     def __init__(

@@ -15,19 +15,6 @@ from sims.path_objects import PathObjects
 from sims.quiet import pybullet as p
 
 JOINT_MODES = ("passive", "ik", "dependent", "force")  # CoppeliaSim's sim.jointmode_*
-BELT_MASS = 1e4  # kg: a moving static surface barely feels what lies on it
-GRAVITY_Z = -9.81
-
-
-@dataclass
-class Belt:
-    """A stand-in body for a static shape whose surface moves (set_initial_velocity)."""
-
-    uid: int
-    name: str
-    mass: float
-    linear: tuple = (0.0, 0.0, 0.0)
-    angular: tuple = (0.0, 0.0, 0.0)
 
 
 @dataclass
@@ -96,7 +83,8 @@ class Mechanisms:
             self._modes[j.name] = (mode if mode in JOINT_MODES else "force", hybrid)
         self.kinematics = Kinematics.of(self, self.source)
         self.paths = PathObjects(self, self.source)
-        self._belts: dict[str, Belt] = {}
+        self._belts = {}
+        self._held = {}
 
     def main_script_actuation(self, dt: float) -> None:
         """What CoppeliaSim's default main script does in each pass's actuation after the child
@@ -189,82 +177,6 @@ class Mechanisms:
             self.set_joint_target_position(name, value)
         else:
             self._hold(j, value)
-
-    # -- static shapes that move what lies on them (conveyor belts) ----------------------------
-    def set_initial_velocity(
-        self, handle: int | str, linear: tuple, angular: tuple = (0.0, 0.0, 0.0)
-    ) -> None:
-        """CoppeliaSim's shapefloatparam_init_velocity_*: a dynamic shape starts moving at it;
-        a static respondable shape keeps its place but its surface moves at it, carrying what
-        lies on it (the conveyor models' "forwarder"). Here a heavy stand-in body takes the
-        static shape's place, put back each step with that velocity."""
-        name = self.object_name(handle)
-        obj = self.model.data.get(name)
-        shape = getattr(obj, "shape", None)
-        if shape is None:
-            raise KeyError(f"{name!r} is not a shape")
-        lin = tuple(float(v) for v in linear)
-        ang = tuple(float(v) for v in angular)
-        if not shape.dynamics.static:
-            ref = self._objects.get(name)
-            if ref is not None and ref.link < 0 and ref.body >= 0:
-                p.resetBaseVelocity(ref.body, lin, ang, physicsClientId=self._cid)
-            return
-        belt = self._belts.get(name) or self._make_belt(name, shape)
-        if belt is not None:
-            belt.linear, belt.angular = lin, ang
-
-    def reset_dynamic_object(self, handle: int | str) -> None:
-        """sim.resetDynamicObject: the object is taken out of the physics and put back; a
-        moving static surface keeps its velocity (it is set again each step)."""
-        self.object_name(handle)
-        self.moved()
-
-    def _make_belt(self, name: str, shape: Any) -> Belt | None:
-        from sims.scene import shapes as S
-        from sims.scene.bodies import STATIC, collision_group, compound_shape
-        from sims.scene.model import Pose as MPose
-
-        c = self._cid
-        parts = [
-            S.Part(m, MPose(m.local.position, m.local.quaternion), True, False, False, name)
-            for m in shape.meshes
-        ]
-        col = compound_shape(c, parts)
-        if col < 0 and len(parts) == 1:
-            col = S.create_collision(c, parts[0], fixed=False)
-        if col < 0 or not shape.dynamics.respondable:
-            return None
-        pos, orn = self.object_pose(name)
-        hidden = p.createVisualShape(  # drawn by the shape's own look, not by this body
-            p.GEOM_SPHERE, radius=1e-6, rgbaColor=(0.0, 0.0, 0.0, 0.0), physicsClientId=c
-        )
-        uid = p.createMultiBody(BELT_MASS, col, hidden, pos, orn, physicsClientId=c)
-        friction = shape.dynamics.friction
-        p.changeDynamics(
-            uid, -1, lateralFriction=0.71 if friction is None else friction,
-            linearDamping=0.0, angularDamping=0.0, physicsClientId=c,
-        )  # fmt: skip
-        group, mask = collision_group(True, False)
-        p.setCollisionFilterGroupMask(uid, -1, group, mask & ~STATIC, physicsClientId=c)
-        for body, row in self.model.data.get("collision_rows", {}).get(name, []):
-            p.setCollisionFilterGroupMask(body, row, 0, 0, physicsClientId=c)
-        belt = Belt(uid, name, BELT_MASS)
-        self._belts[name] = belt
-        return belt
-
-    def _drive_belts(self) -> None:
-        """Each belt back at its shape's place, moving at its velocity, its weight carried."""
-        c = self._cid
-        for belt in self._belts.values():
-            pos, orn = self.object_pose(belt.name)
-            p.resetBasePositionAndOrientation(belt.uid, pos, orn, physicsClientId=c)
-            p.resetBaseVelocity(belt.uid, belt.linear, belt.angular, physicsClientId=c)
-            com = p.getBasePositionAndOrientation(belt.uid, physicsClientId=c)[0]
-            p.applyExternalForce(
-                belt.uid, -1, (0.0, 0.0, -GRAVITY_Z * belt.mass), com, p.WORLD_FRAME,
-                physicsClientId=c,
-            )  # fmt: skip
 
     # -- state --------------------------------------------------------------------------------
     def get_state(self) -> WorldState:
