@@ -218,3 +218,40 @@ def _link_frame(plan: _Planner, at: tuple[int, int] | None) -> Tf:
     if at is None:
         return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
     return plan.bodies[at[0]].links[at[1]].frame
+
+
+def describe(scene: Scene) -> list[dict]:
+    """How each loop closure of the scene is built (for ``sitegen scene show``)."""
+    kids: dict[int | None, list[SceneObject]] = {}
+    table = scene.by_handle()
+    for o in scene.objects:
+        kids.setdefault(o.parent if o.parent in table else None, []).append(o)
+    closing = closing_joints(scene, kids)
+    by_pair = {frozenset((c.dummy.handle, c.partner.handle)): c for c in closing.values()}
+    out = []
+    for a, b in linked_pairs(scene):
+        cj = by_pair.get(frozenset((a.handle, b.handle)))
+        item = {"dummies": [a.name, b.name], "link_type": a.dummy.link_type if a.dummy else ""}
+        if cj is not None:
+            kind = cj.joint.joint.kind if cj.joint.joint else "revolute"
+            points = "two point constraints on its axis" if kind == "revolute" else "a ball joint"
+            item["built_as"] = f"closing joint {cj.joint.name} ({kind}): {points}"
+            item["joint"] = cj.joint.name
+        elif not (_moves(a, table) or _moves(b, table)):
+            item["built_as"] = "both fixed in the world: nothing to hold"
+        else:
+            item["built_as"] = "weld (the two dummies' frames held together)"
+        out.append(item)
+    return out
+
+
+def _moves(o: SceneObject, table: dict[int, SceneObject]) -> bool:
+    """Something above it moves under physics (a joint or a dynamic shape)."""
+    cur = table.get(o.parent) if o.parent is not None else None
+    while cur is not None:
+        if cur.kind in ("joint", "force_sensor"):
+            return True
+        if cur.shape is not None and not cur.shape.dynamics.static:
+            return True
+        cur = table.get(cur.parent) if cur.parent is not None else None
+    return False
