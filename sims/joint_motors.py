@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from sims.models.common import JointRef, SceneModel, Vec3
 from sims.quiet import pybullet as p
 
 Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
+JointCallback = Callable[[dict[str, Any]], "dict[str, float] | None"]
 HOLD_FORCE = 1e4  # N or N·m: a kinematic (passive-mode) joint is held where it is set
 
 
@@ -26,6 +28,8 @@ class JointMotors:
     _joints: dict[str, JointRef]
     _springs: dict[str, float]  # spring-damper joints: rest position
     _commands: dict[str, tuple[str, float]]  # last motor command per joint
+    _callbacks: dict[str, JointCallback]  # custom joint controllers
+    timestep: float
 
     if TYPE_CHECKING:  # supplied by World
 
@@ -37,6 +41,8 @@ class JointMotors:
         def moved(self) -> None: ...
 
         def link_frame(self, body: int, link: int) -> Pose: ...
+
+        def handle(self, name: str) -> int | None: ...
 
     def kinematic(self, j: JointRef) -> bool:
         """Held where it is put, not driven by a motor: a passive (or dependent) joint, or
@@ -239,3 +245,50 @@ class JointMotors:
                 force=torque * j.sign,
                 physicsClientId=self._cid,
             )
+
+    # -- custom joint controllers (sysCall_jointCallback) -------------------------------------
+    def set_joint_callback(self, handle: int | str, callback: JointCallback | None) -> None:
+        """A custom controller for the joint, called before every physics step as CoppeliaSim
+        calls a script's ``sysCall_jointCallback``: it gets CoppeliaSim's ``inData`` fields and
+        returns ``{"velocity": v, "force": f}`` (the joint's motor is then driven at v with at
+        most f), or None to leave the motor as it is. None removes the controller."""
+        j = self.joint(handle)
+        if callback is None:
+            self._callbacks.pop(j.name, None)
+        else:
+            self._callbacks[j.name] = callback
+
+    def _run_joint_callbacks(self) -> None:
+        c = self._cid
+        for name, callback in list(self._callbacks.items()):
+            j = self._joints[name]
+            q, dq = self.joint_position(name), self.joint_velocity(name)
+            kind, value = self._commands.get(name, ("position", q))
+            target = value if kind == "position" else q
+            data = {
+                "handle": self.handle(name),
+                "revolute": j.kind == "revolute",
+                "cyclic": j.lower is None,
+                "lowLimit": j.lower if j.lower is not None else 0.0,
+                "highLimit": j.upper if j.upper is not None else 0.0,
+                "passCnt": 0,
+                "totalPasses": 1,
+                "currentPos": q,
+                "currentVel": dq,
+                "targetPos": target,
+                "errorValue": target - q,
+                "effort": 0.0,
+                "dynStepSize": self.timestep,
+                "targetVel": value if kind == "velocity" else 0.0,
+                "maxForce": j.max_force,
+                "velUpperLimit": j.max_velocity if j.max_velocity is not None else 1e6,
+            }
+            out = callback(data)
+            if not out or "velocity" not in out:
+                continue
+            force = float(out.get("force", j.max_force))
+            p.setJointMotorControl2(
+                j.body, j.index, p.VELOCITY_CONTROL,
+                targetVelocity=float(out["velocity"]) * j.sign, force=abs(force),
+                physicsClientId=c,
+            )  # fmt: skip

@@ -118,6 +118,7 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
         self._springs: dict[str, float] = {}  # spring-damper joints: rest position
         self._commands: dict[str, tuple[str, float]] = {}  # last motor command per joint
         self._modes: dict[str, tuple[str, bool]] = {}  # CoppeliaSim joint modes (world_mech)
+        self._callbacks = {}  # custom joint controllers (set_joint_callback)
         for j in self.model.joints:
             self._init_motor(j)
         self._build_count = getattr(self, "_build_count", 0) + 1
@@ -169,6 +170,8 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
                 self._apply_springs()
             if self._belts:
                 self._drive_belts()
+            if self._callbacks:
+                self._run_joint_callbacks()
             p.stepSimulation(physicsClientId=self._cid)
             self.steps += 1
             self.time = self.steps * self.timestep
