@@ -212,3 +212,29 @@ def test_every_respondable_primitive_collides_with_its_size_and_frame(name):
                 assert any(_matches(s, kind, dims, pos, orn) for s in shapes), (o.name, mesh.size)
     finally:
         world.close()
+
+
+def test_world_state_is_saved_and_restored_exactly():
+    """World.get_state / set_state (issue 34): back to the saved time, poses and motor
+    commands; stepping on from there repeats what followed the first time."""
+    world = World(scene("vrep_remoteapi_ex", "fourbar", "solvespace_fourbar_with_motor_on.ttt"))
+    try:
+        world.step(50)
+        world.set_joint_target_velocity("Revolute_joint", -1.0)
+        state = world.get_state()
+        saved = (world.time, world.joint_position("Revolute_joint"), world.object_pose("link2"))
+        world.step(100)
+        after = world.object_pose("link2")
+        world.set_joint_target_velocity("Revolute_joint", 2.0)
+        world.step(30)
+        world.set_state(state)
+        assert (world.time, world.joint_position("Revolute_joint")) == saved[:2]
+        assert world.object_pose("link2") == saved[2]
+        assert world.motor_command("Revolute_joint") == ("velocity", -1.0)
+        world.step(100)
+        assert math.dist(world.object_pose("link2")[0], after[0]) < 1e-9
+        world.reset()
+        with pytest.raises(ValueError):
+            world.set_state(state)  # saved before the rebuild
+    finally:
+        world.close()
