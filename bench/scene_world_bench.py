@@ -26,6 +26,7 @@ import argparse
 import contextlib
 import dataclasses
 import io
+import math
 import os
 import resource
 import tempfile
@@ -67,6 +68,35 @@ def one(scene: str, cache: str) -> tuple[float, float, float]:
     if not result.ok:
         raise SystemExit(f"{scene}: {result.message}")
     return result.sim_time, wall, cpu
+
+
+def bare(scene: str, sim_seconds: float) -> tuple[float, float, float]:
+    """The same scene stepped by pybullet alone for the same simulated time, in this process:
+    the experiment's arm moves (3 runs of 5 random targets held 5 s, as the script sends
+    them), then ``stepSimulation`` in a loop; no remote API, no script, no World.step hooks.
+    The floor under the remote API run: its speed divided by this one is what the API keeps."""
+    import random
+
+    from sims.quiet import pybullet as p
+    from sims.world import World
+
+    world = World(scene, seed=2021)
+    rng = random.Random(2021)
+    arm = ("ShoulderMotor", "ElbowMotor", "WristMotor")
+    c = world.client_id
+    per_move = round(5.0 / world.timestep)
+    moves = max(1, round(sim_seconds / 5.0))
+    cpu, started = _cpu(), time.perf_counter()
+    for move in range(moves):
+        if move and move % 5 == 0:
+            world.reset()
+        for joint in arm:
+            world.set_joint_target_position(joint, math.radians(rng.randint(0, 300)))
+        for _ in range(per_move):
+            p.stepSimulation(physicsClientId=c)
+    wall, cpu = time.perf_counter() - started, _cpu() - cpu
+    world.close()
+    return moves * per_move * world.timestep, wall, cpu
 
 
 def without_self_collision(folder: Path) -> str:
@@ -133,8 +163,11 @@ def measure(args: argparse.Namespace, tmp: Path) -> int:
         one(scene, where)
     best: dict[str, tuple[float, float, float]] = {}
     for _ in range(args.repeat):
-        for label, scene, where in runs:
-            sim, wall, cpu = one(scene, where)
+        for label, scene, where in [*runs, ("2w1a, bare pybullet stepping", "2w1a", "")]:
+            if where:
+                sim, wall, cpu = one(scene, where)
+            else:
+                sim, wall, cpu = bare(scene, best["2w1a"][0])
             old = best.get(label)
             best[label] = (
                 sim,
@@ -154,6 +187,12 @@ def measure(args: argparse.Namespace, tmp: Path) -> int:
             f" {cpu:>7.2f} {sim / cpu:>7.0f} {sim / cpu / hand_cpu:>8.2f}"
         )
     print("(best of --repeat runs; wall = elapsed, cpu = CPU time of the run, its child included)")
+    api, floor = best["2w1a"], best["2w1a, bare pybullet stepping"]
+    print(
+        f"2w1a through the remote API vs bare pybullet stepping: "
+        f"{(api[0] / api[1]) / (floor[0] / floor[1]):.2f} (wall), "
+        f"{(api[0] / api[2]) / (floor[0] / floor[2]):.2f} (cpu)"
+    )
     if args.explain:
         print("* diagnostic: the scene with its robot's self-collision masked off, not its physics")
         print(f"\n{'scene':<28} {'contact points':>15} {'of them self':>13}  (at each pass end)")

@@ -167,7 +167,7 @@ def build(scene: Scene, client: int, seed: int = 0, floor: bool | None = None) -
     plan = _Planner(scene)
     created = [create_body(client, body) for body in plan.bodies]
     _filter_pairs(client, plan, created)
-    closing = loops.close(client, scene, plan, created)
+    closing = loops.close(client, scene, plan, created, joint_ref)
     has_ground = any(
         body.fixed and any(part.respondable for part, _ in body.links[0].parts)
         for body in plan.bodies

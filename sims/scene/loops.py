@@ -23,17 +23,17 @@ pybullet builds each body as a tree (a multibody), so a loop is closed with cons
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 from sims.models.common import Closure, JointRef
 from sims.quiet import pybullet as p
-from sims.scene.bodies import Tf, inv, mul
+from sims.scene.bodies import Created, Tf, inv, mul
 from sims.scene.model import Scene, SceneObject
 
-if TYPE_CHECKING:
-    from sims.scene.bodies import Created
-    from sims.scene.build import _Planner
+_Planner = Any  # sims.scene.build._Planner (build imports this module, not the other way)
+MakeRef = Callable[[SceneObject, int, int], JointRef]
 
 AXIS_HALF = 0.05  # m: the two points that make a closing revolute joint's axis, either side
 CLOSING_KINDS = ("revolute", "spherical")
@@ -154,8 +154,11 @@ def _weld(client: int, a, b, pivot: Tf) -> int:
     return cid
 
 
-def close(client: int, scene: Scene, plan: _Planner, created: list[Created]) -> dict[int, JointRef]:
-    """Create the scene's loop-closure constraints; returns the closing joints' records."""
+def close(
+    client: int, scene: Scene, plan: _Planner, created: list[Created], make_ref: MakeRef
+) -> dict[int, JointRef]:
+    """Create the scene's loop-closure constraints; returns the closing joints' records
+    (``make_ref`` is the builder's JointRef for a joint object on a body's link)."""
     refs: dict[int, JointRef] = {}
     closed: set[frozenset[int]] = set()
     for h, cj in plan.closing.items():
@@ -172,7 +175,7 @@ def close(client: int, scene: Scene, plan: _Planner, created: list[Created]) -> 
                 _point(client, a, b, mul(full, ((0.0, 0.0, s), (0.0, 0.0, 0.0, 1.0)))[0])
         else:
             _point(client, a, b, full[0])
-        refs[h] = _closure_ref(cj.joint, plan, parent_at, partner_at, a, b)
+        refs[h] = _closure_ref(cj.joint, plan, parent_at, partner_at, a, b, make_ref)
     for d1, d2 in linked_pairs(scene):
         if frozenset((d1.handle, d2.handle)) in closed:
             continue
@@ -197,9 +200,9 @@ def _pivot(plan: _Planner, dummy: SceneObject, a, b) -> Tf:
     return com[0], (0.0, 0.0, 0.0, 1.0)
 
 
-def _closure_ref(joint: SceneObject, plan: _Planner, parent_at, partner_at, a, b) -> JointRef:
-    from sims.scene.build import joint_ref
-
+def _closure_ref(
+    joint: SceneObject, plan: _Planner, parent_at, partner_at, a, b, make_ref: MakeRef
+) -> JointRef:
     base, full = plan.base[joint.handle], plan.full[joint.handle]
     parent_frame = _link_frame(plan, parent_at)
     child_frame = _link_frame(plan, partner_at)
@@ -209,7 +212,7 @@ def _closure_ref(joint: SceneObject, plan: _Planner, parent_at, partner_at, a, b
         parent_frame=mul(inv(parent_frame), base),
         child_frame=mul(inv(child_frame), full),
     )
-    ref = joint_ref(joint, a[0], a[1])
+    ref = make_ref(joint, a[0], a[1])
     mode = "spring" if ref.mode == "spring" else "free"
     return dataclasses.replace(ref, closure=closure, mode=mode)
 
