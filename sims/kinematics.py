@@ -202,7 +202,10 @@ class Kinematics:
             if w.kind(cur) == "joint":
                 name = w.object_name(cur)
                 j = w.joint(name)
-                takes_part = name in only if only is not None else w.joint_in_ik(name)
+                if only is not None:
+                    takes_part = name in only
+                else:
+                    takes_part = e.all_joints or w.joint_in_ik(name)
                 if takes_part and j.kind in ("revolute", "prismatic"):
                     names.append(name)
             cur = w.parent(cur)
@@ -224,6 +227,8 @@ class Kinematics:
         return Chain(names, kinds, frames[0], links, q, lower, upper, weights)
 
     def _target(self, e: IkElement) -> int | None:
+        if e.target is not None:
+            return e.target
         return self.world.linked_dummy(e.tip) if e.tip else None
 
     def _solve(
@@ -340,7 +345,7 @@ def _metric(c: Chain, e: IkElement, world: Any, q: dict[str, float], metric) -> 
     differences and the orientation angle, each weighted."""
     values = np.array([q.get(n, v) for n, v in zip(c.joints, c.q, strict=True)])
     tip = c.frames(values)[1]
-    target = _matrix(world.object_pose(world.linked_dummy(e.tip)))
+    target = _matrix(world.object_pose(e.target or world.linked_dummy(e.tip)))
     d = target[:3, 3] - tip[:3, 3]
     angle = np.linalg.norm(_rotation_vector(target[:3, :3] @ tip[:3, :3].T))
     return math.sqrt(sum((m * v) ** 2 for m, v in zip(metric, [*d, angle], strict=True)))

@@ -173,7 +173,7 @@ class Mechanisms:
         """An IK result: a hybrid joint's new position target, a plain IK joint put there."""
         j = self.joint(name)
         mode, hybrid = self.joint_mode(name)
-        if hybrid:
+        if hybrid or mode == "force":  # a joint its motor drives (simIK over dynamic joints)
             self.set_joint_target_position(name, value)
         else:
             self._hold(j, value)

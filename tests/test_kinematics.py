@@ -99,3 +99,22 @@ def test_unknown_group_names_and_handles_are_errors(ur5_scene):
             NOT_PERFORMED,
             SUCCESS,
         )
+
+
+def test_simik_environment_group_built_from_the_scene_solves_the_same_chain(ur5_scene):
+    """simIK (4.2+): a script builds its own group from the scene's tip, target and base;
+    every joint between base and tip takes part, whatever its mode."""
+    from sims.ik_environment import IkEnvironment
+
+    with World(ur5_scene) as world:
+        env = IkEnvironment(world)
+        group = env.create_group("arm")
+        assert env.add_element_from_scene(group, "UR5", "UR5_ikTip", "UR5_ikTarget") == 1
+        env.set_group_calculation(group, "damped_least_squares", 0.01, 10)
+        for name, q in zip(UR5, AWAY, strict=True):
+            world.set_joint_mode(name, "passive")
+            world.set_joint_position(name, q)
+        results = [env.handle_group(group) for _ in range(4)]
+        assert results[-1] == SUCCESS
+        distance, angle = gap(world)
+        assert distance < 0.0005 and angle < math.radians(0.1)

@@ -44,6 +44,8 @@ class IkElement:
     precision: tuple[float, float] = (0.001, 0.0087266)
     weights: tuple[float, float] = (1.0, 1.0)
     enabled: bool = True
+    target: int | None = None  # None: the tip's linked dummy (saved groups); simIK names it
+    all_joints: bool = False  # every joint of the chain takes part (simIK), not only IK-mode ones
 
 
 @dataclass(frozen=True)
