@@ -111,6 +111,7 @@ def test_simik_environment_group_built_from_the_scene_solves_the_same_chain(ur5_
         group = env.create_group("arm")
         assert env.add_element_from_scene(group, "UR5", "UR5_ikTip", "UR5_ikTarget") == 1
         env.set_group_calculation(group, "damped_least_squares", 0.01, 10)
+        env.set_element_precision(group, 1, 0.0005, math.radians(0.1))
         for name, q in zip(UR5, AWAY, strict=True):
             world.set_joint_mode(name, "passive")
             world.set_joint_position(name, q)
