@@ -165,19 +165,28 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
 
     # -- time --------------------------------------------------------------------------------
     def step(self, n: int = 1) -> None:
+        c, step_simulation = self._cid, p.stepSimulation  # looked up once: this loop is hot
+        sensors = self._proximity if self._proximity.mode == "main-script" else None
         for _ in range(n):
-            if self._springs:
-                self._apply_springs()
-            if self._belts:
-                self._drive_belts()
-            if self._callbacks:
-                self._run_joint_callbacks()
-            p.stepSimulation(physicsClientId=self._cid)
+            if self._springs or self._belts or self._callbacks:
+                self._before_step()
+            step_simulation(physicsClientId=c)
             self.steps += 1
             self.time = self.steps * self.timestep
-            self._proximity.stepped()
-            for hook in list(self._hooks):
-                hook(self)
+            if sensors is not None:
+                sensors.stepped()
+            if self._hooks:
+                for hook in tuple(self._hooks):
+                    hook(self)
+
+    def _before_step(self) -> None:
+        """Springs, moving surfaces and custom joint controllers act before each step."""
+        if self._springs:
+            self._apply_springs()
+        if self._belts:
+            self._drive_belts()
+        if self._callbacks:
+            self._run_joint_callbacks()
 
     def advance(self, seconds: float) -> None:
         self.step(max(0, round(seconds / self.timestep)))
