@@ -141,9 +141,26 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--explain", action="store_true", help="add the diagnostic rows")
+    parser.add_argument(
+        "--only",
+        choices=("api", "bare"),
+        help="one in-process run of the 2W1A scene through the remote API, or stepped bare "
+        "(to count instructions: valgrind --tool=callgrind python bench/... --only api)",
+    )
     args = parser.parse_args()
     if not SCRIPT.is_file():
         print(f"skipped: {SCRIPT} is not there (the course's shared folder)")
+        return 0
+    if args.only:
+        if args.only == "bare":
+            sim, wall, cpu = bare("2w1a", 79.7)
+        else:
+            started, cpu0 = time.perf_counter(), _cpu()
+            sink = io.StringIO()
+            with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+                result = run_script(SCRIPT, "2w1a", seed=2021, trace=False, stderr=sink)
+            sim, wall, cpu = result.sim_time, time.perf_counter() - started, _cpu() - cpu0
+        print(f"{args.only}: {sim:.1f} simulated s, {wall:.2f} s wall, {cpu:.2f} s cpu")
         return 0
     with tempfile.TemporaryDirectory(prefix="scene-bench-") as tmp:
         return measure(args, Path(tmp))

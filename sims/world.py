@@ -119,6 +119,9 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
         self._commands: dict[str, tuple[str, float]] = {}  # last motor command per joint
         self._modes: dict[str, tuple[str, bool]] = {}  # CoppeliaSim joint modes (world_mech)
         self._callbacks = {}  # custom joint controllers (set_joint_callback)
+        self._forces = {}  # forces scripts added this pass (sim.addForce)
+        step = getattr(self.source, "time_step", 0.05) or 0.05
+        self.pass_steps = max(1, round(step / self.timestep))  # physics steps per pass
         for j in self.model.joints:
             self._init_motor(j)
         self._build_count = getattr(self, "_build_count", 0) + 1
@@ -168,11 +171,13 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
         c, step_simulation = self._cid, p.stepSimulation  # looked up once: this loop is hot
         sensors = self._proximity if self._proximity.mode == "main-script" else None
         for _ in range(n):
-            if self._springs or self._belts or self._callbacks:
+            if self._springs or self._belts or self._callbacks or self._forces:
                 self._before_step()
             step_simulation(physicsClientId=c)
             self.steps += 1
             self.time = self.steps * self.timestep
+            if self._forces and self.steps % self.pass_steps == 0:
+                self._forces.clear()  # a pass's added forces end with its dynamics
             if sensors is not None:
                 sensors.stepped()
             if self._hooks:
@@ -187,6 +192,8 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
             self._drive_belts()
         if self._callbacks:
             self._run_joint_callbacks()
+        if self._forces:
+            self._apply_forces()
 
     def advance(self, seconds: float) -> None:
         self.step(max(0, round(seconds / self.timestep)))

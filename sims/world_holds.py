@@ -52,6 +52,7 @@ class Holds:
     _joints: dict[str, JointRef]
     _belts: dict[str, Belt]
     _held: dict[str, Hold]
+    _forces: dict[str, tuple[tuple, tuple]]
 
     if TYPE_CHECKING:  # supplied by World
 
@@ -205,3 +206,47 @@ class Holds:
         """The (body, link) holding a part, or None."""
         hold = self._held.get(self.object_name(part))
         return None if hold is None else hold.by
+
+    # -- forces a script adds (sim.addForce, sim.addForceAndTorque) ----------------------------
+    def add_force_and_torque(self, handle: int | str, force: tuple, torque: tuple) -> None:
+        """sim.addForceAndTorque: a force at the shape's centre of mass and a torque, both in
+        the world frame, added to what the pass's dynamics steps apply (cleared at the pass's
+        end, as CoppeliaSim clears them after sim.handleDynamics)."""
+        name = self.object_name(handle)
+        ref = self._objects.get(name)
+        shape = getattr(self.model.data.get(name), "shape", None)
+        if ref is None or shape is None or shape.dynamics.static or ref.body < 0:
+            return  # CoppeliaSim ignores forces on shapes that are not dynamic
+        f0, t0 = self._forces.get(name, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+        f = tuple(a + float(b) for a, b in zip(f0, force, strict=True))
+        t = tuple(a + float(b) for a, b in zip(t0, torque, strict=True))
+        self._forces[name] = (f, t)
+
+    def add_force(self, handle: int | str, position: tuple, force: tuple) -> None:
+        """sim.addForce: ``force`` applied at ``position``, both in the shape's own frame: the
+        force at the centre of mass and the torque ``position x force`` (CoppeliaSim's own
+        reckoning), turned into the world frame."""
+        name = self.object_name(handle)
+        orn = self.object_pose(name)[1]
+        r = [float(v) for v in position]
+        f = [float(v) for v in force]
+        t = (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
+        m = p.getMatrixFromQuaternion(orn)
+
+        def world(v) -> tuple:
+            return tuple(
+                m[3 * i] * v[0] + m[3 * i + 1] * v[1] + m[3 * i + 2] * v[2] for i in range(3)
+            )
+
+        self.add_force_and_torque(name, world(f), world(t))
+
+    def _apply_forces(self) -> None:
+        c = self._cid
+        for name, (force, torque) in self._forces.items():
+            ref = self._objects[name]
+            if ref.link < 0:
+                com = p.getBasePositionAndOrientation(ref.body, physicsClientId=c)[0]
+            else:
+                com = p.getLinkState(ref.body, ref.link, physicsClientId=c)[0]
+            p.applyExternalForce(ref.body, ref.link, force, com, p.WORLD_FRAME, physicsClientId=c)
+            p.applyExternalTorque(ref.body, ref.link, torque, p.WORLD_FRAME, physicsClientId=c)

@@ -238,3 +238,32 @@ def test_world_state_is_saved_and_restored_exactly():
             world.set_state(state)  # saved before the rebuild
     finally:
         world.close()
+
+
+def test_cart_pole_stays_balanced_under_its_scripts_controller():
+    """The inverted pendulum scene's child script (an LQR: sim.addForce on the cart from the
+    joint positions and the dummies' velocities, run here as the script computes it each 50 ms
+    pass) keeps the pole up while it drives the cart from -0.7 m toward its 0.5 m set point."""
+    from sims.remote_api.object_commands import velocity
+
+    world = World(scene("course2", "invertedPendulum.ttt"))
+    try:
+        gains = (-31.6228, -118.9923, 200.9721, 70.7427)
+        goal = 0.5
+        pend, cart = world.handle("pendDummy"), world.handle("cartDummy")
+        tilt = 0.0
+        for _ in range(200):  # 10 s
+            x = world.joint_position("sliderJoint")
+            pv, cv = velocity(world, pend)[0], velocity(world, cart)[0]
+            pp, cp = world.object_pose(pend)[0], world.object_pose(cart)[0]
+            rx, rz = pp[0] - cp[0], pp[2] - cp[2]
+            omega = (rx * (pv[2] - cv[2]) - rz * (pv[0] - cv[0])) / (rx * rx + rz * rz)
+            theta = world.joint_position("revoluteJoint")
+            u = gains[0] * (x - goal) + gains[1] * cv[0] + gains[2] * theta + gains[3] * omega
+            world.add_force("cartV", (0, 0, 0), (0, -u, 0))
+            world.step(world.pass_steps)
+            tilt = max(tilt, abs(world.joint_position("revoluteJoint")))
+        assert tilt < 0.2, f"the pole tilted {math.degrees(tilt):.0f} degrees"
+        assert world.joint_position("sliderJoint") > 0.3  # from -0.7 toward 0.5
+    finally:
+        world.close()
