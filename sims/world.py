@@ -171,6 +171,8 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds):
         c, step_simulation = self._cid, p.stepSimulation  # looked up once: this loop is hot
         sensors = self._proximity if self._proximity.mode == "main-script" else None
         for _ in range(n):
+            if self._pass_work and self.steps % self.pass_steps == 0:
+                self.main_script_actuation(self.pass_steps * self.timestep)
             if self._springs or self._belts or self._callbacks or self._forces:
                 self._before_step()
             step_simulation(physicsClientId=c)

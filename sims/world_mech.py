@@ -85,10 +85,14 @@ class Mechanisms:
         self.paths = PathObjects(self, self.source)
         self._belts = {}
         self._held = {}
+        # CoppeliaSim's main script handles paths and IK groups at each pass's actuation; the
+        # World does it before a pass's first physics step (after the scripts' actuation)
+        self._pass_work = bool(self.kinematics.groups or self.paths.paths)
 
     def main_script_actuation(self, dt: float) -> None:
         """What CoppeliaSim's default main script does in each pass's actuation after the child
-        scripts: paths with a velocity advance, IK groups not explicitly handled are solved."""
+        scripts: paths with a velocity advance, IK groups not explicitly handled are solved.
+        World.step calls it before each pass's first physics step: drivers need not."""
         self.paths.main_script_pass(dt)
         self.kinematics.main_script_pass()
 
