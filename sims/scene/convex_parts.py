@@ -11,9 +11,9 @@ a unit box (a thin plate otherwise leaves V-HACD's voxel error above the concavi
 split at). V-HACD splits a part only when its concavity exceeds its own voxel error, which for
 a mildly concave plate with holes takes a grid of millions of voxels (26 s for one 68-vertex
 link here). When it returns a single part for a mesh that is not convex, the mesh is cut into
-slabs across its longest principal axis instead, each slab's hull covering the mesh within it:
-written here because no library at hand does it, and it follows a bar's outline to within a
-slab's width.
+cells instead (``cells``: slabs across an elongated mesh, an 8 x 8 grid over a compact one),
+each cell's part the hull of the triangles clipped to it: written here because no library at
+hand does it, and it follows an outline to within a cell's width.
 
 Parts are kept as a Wavefront OBJ file, one object per part (pybullet loads such a file as a
 compound of hulls), each eroded by the 1 mm pybullet pads a hull with, named by the content
@@ -35,10 +35,11 @@ from sims.quiet import pybullet as p
 from sims.quiet import quiet_fd
 from sims.scene.scene_cache import cache_dir
 
-METHOD = "convex-parts/3 vhacd(resolution=100000,unit-box) slabs(width/4) eroded 1mm"
+METHOD = "convex-parts/4 vhacd(resolution=100000,unit-box) cells(slabs width/4|grid 8) eroded 1mm"
 HULL_MARGIN = 0.001  # m: pybullet pads every convex hull by this much; parts are eroded by it
 CONVEX_TOLERANCE = 1e-4  # relative: a vertex this far outside a face plane is a concavity
 MAX_SLABS = 32
+GRID = 8  # cells a side over a compact mesh
 
 
 def is_convex(points: np.ndarray, triangles: np.ndarray) -> bool:
@@ -72,7 +73,7 @@ def decomposition(points: np.ndarray, triangles: np.ndarray) -> str:
         return str(target)
     parts = _vhacd(points, triangles, folder)
     if len(parts) < 2:
-        parts = slabs(points, triangles)
+        parts = cells(points, triangles)
     _write(target, [_eroded(part) for part in parts])
     return str(target)
 
@@ -100,34 +101,55 @@ def _vhacd(points: np.ndarray, triangles: np.ndarray, folder: Path) -> list[np.n
         return [part * scale + lo for part in _read(out)]
 
 
-def slabs(points: np.ndarray, triangles: np.ndarray) -> list[np.ndarray]:
-    """The mesh cut across its longest principal axis into slabs, each a set of points whose
-    hull covers the mesh within the slab (its vertices there and where its edges cross the
-    slab's faces)."""
+def cells(points: np.ndarray, triangles: np.ndarray) -> list[np.ndarray]:
+    """The mesh cut by a grid on its two widest principal axes, each cell's part the hull of
+    the mesh's triangles clipped to the cell: slabs across an elongated mesh (a bar), an 8 x 8
+    grid over a compact one (a wheel with scoops round its rim)."""
     centre = points.mean(axis=0)
     axes = np.linalg.svd(points - centre, full_matrices=False)[2]
     coords = (points - centre) @ axes.T
-    extent = np.ptp(coords, axis=0)
-    u = coords[:, 0]
-    width = max(float(extent[1]), 1e-6)
-    count = int(min(MAX_SLABS, max(2, math.ceil(float(extent[0]) / (width / 4)))))
-    cuts = np.linspace(u.min(), u.max(), count + 1)
-    edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    ua, ub = u[edges[:, 0]], u[edges[:, 1]]
-    crossings = []
-    for cut in cuts[1:-1]:
-        cross = (ua - cut) * (ub - cut) < 0
-        t = (cut - ua[cross]) / (ub[cross] - ua[cross])
-        pa, pb = points[edges[cross, 0]], points[edges[cross, 1]]
-        crossings.append(pa + (pb - pa) * t[:, None])
+    extent = np.maximum(np.ptp(coords, axis=0), 1e-6)
+    if extent[0] > 2 * extent[1]:
+        counts = (int(min(MAX_SLABS, max(2, math.ceil(extent[0] / (extent[1] / 4))))), 1)
+    else:
+        counts = (GRID, GRID)
+    lows = coords.min(axis=0)
+    cuts = [np.linspace(lows[k], lows[k] + extent[k], counts[k] + 1) for k in (0, 1)]
+    tris = coords[triangles]
+    lo, hi = tris.min(axis=1), tris.max(axis=1)
     parts = []
-    for k in range(count):
-        inside = points[(u >= cuts[k] - 1e-12) & (u <= cuts[k + 1] + 1e-12)]
-        extra = [c for i, c in enumerate(crossings) if i in (k - 1, k)]
-        pts = np.concatenate([inside, *extra]) if extra else inside
-        if len(pts) >= 4:
-            parts.append(pts)
+    for i in range(counts[0]):
+        for j in range(counts[1]):
+            box = ((cuts[0][i], cuts[0][i + 1]), (cuts[1][j], cuts[1][j + 1]))
+            sel = (
+                (hi[:, 0] >= box[0][0]) & (lo[:, 0] <= box[0][1])
+                & (hi[:, 1] >= box[1][0]) & (lo[:, 1] <= box[1][1])
+            )  # fmt: skip
+            pts = [q for tri in tris[sel] for q in _clip_to(tri, box)]
+            if len(pts) >= 4:
+                parts.append(np.array(pts) @ axes + centre)
     return parts
+
+
+def _clip_to(tri: np.ndarray, box: tuple) -> list[np.ndarray]:
+    """A triangle clipped to a cell (Sutherland-Hodgman on the cell's four planes)."""
+    poly = list(tri)
+    for axis, (low, high) in enumerate(box):
+        for value, keep_above in ((low, True), (high, False)):
+            out: list[np.ndarray] = []
+            for k, cur in enumerate(poly):
+                prev = poly[k - 1]
+                cur_in = cur[axis] >= value if keep_above else cur[axis] <= value
+                prev_in = prev[axis] >= value if keep_above else prev[axis] <= value
+                if cur_in != prev_in:
+                    t = (value - prev[axis]) / (cur[axis] - prev[axis])
+                    out.append(prev + (cur - prev) * t)
+                if cur_in:
+                    out.append(cur)
+            poly = out
+            if not poly:
+                return []
+    return poly
 
 
 def _eroded(part: np.ndarray) -> np.ndarray:
