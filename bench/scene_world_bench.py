@@ -69,6 +69,52 @@ def one(scene: str, cache: str) -> tuple[float, float, float]:
     return result.sim_time, wall, cpu
 
 
+ARM = ("ShoulderMotor", "ElbowMotor", "WristMotor")
+Log = list[tuple[int, dict[str, list]]]
+
+
+def record(scene: str) -> Log:
+    """The experiment's motor commands, pass by pass, from one untimed in-process run through
+    the remote API (and which simulation each pass belongs to): what ``bare`` replays."""
+    log: Log = []
+
+    def on_pass(sim) -> None:
+        log.append((sim.starts, {j: list(sim.world.motor_command(j) or ()) for j in ARM}))
+
+    sink = io.StringIO()
+    with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+        run_script(SCRIPT, scene, seed=2021, trace=False, stderr=sink, on_pass=on_pass)
+    return log
+
+
+def bare(scene: str, log: Log) -> tuple[float, float, float]:
+    """The same scene stepped by pybullet alone through the same passes: the recorded arm
+    commands set as the script set them, a rebuild where the script restarted the simulation,
+    then ``stepSimulation`` in a loop (the World built first, in the time, as the API run builds
+    it); no remote API, no script, no World.step work. The same
+    physics as the API run (same commands, same steps), so its speed is the API run's floor."""
+    from sims.quiet import pybullet as p
+    from sims.world import World
+
+    cpu, started = _cpu(), time.perf_counter()  # the scene's building counts, as in the API run
+    world = World(scene, seed=2021)
+    c, steps = world.client_id, world.pass_steps
+    run, sent = log[0][0] if log else 0, {}
+    for starts, commands in log:
+        if starts != run:
+            world.reset()
+            run, sent = starts, {}
+        for joint, command in commands.items():
+            if command and command != sent.get(joint) and command[0] == "position":
+                world.set_joint_target_position(joint, command[1])
+                sent[joint] = command
+        for _ in range(steps):
+            p.stepSimulation(physicsClientId=c)
+    wall, cpu = time.perf_counter() - started, _cpu() - cpu
+    world.close()
+    return len(log) * steps * world.timestep, wall, cpu
+
+
 def without_self_collision(folder: Path) -> str:
     """The bundled 2W1A with the low byte of every respondable mask cleared: shapes of one model
     no longer collide with each other (the floor, another model, still holds the robot)."""
@@ -111,9 +157,40 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--explain", action="store_true", help="add the diagnostic rows")
+    parser.add_argument(
+        "--only",
+        choices=("api", "bare"),
+        help="one in-process run of the 2W1A scene through the remote API (writing its "
+        "commands to --log), or stepped bare (replaying --log); to count instructions: "
+        "valgrind --tool=callgrind python bench/scene_world_bench.py --only api --log F",
+    )
+    parser.add_argument("--log", help="the recorded commands (--only api writes, bare reads)")
     args = parser.parse_args()
     if not SCRIPT.is_file():
         print(f"skipped: {SCRIPT} is not there (the course's shared folder)")
+        return 0
+    if args.only:
+        import json
+
+        if args.only == "bare":
+            sim, wall, cpu = bare("2w1a", json.loads(Path(args.log).read_text()))
+        else:
+            started, cpu0 = time.perf_counter(), _cpu()
+            log: Log = []
+
+            def on_pass(sim) -> None:
+                log.append((sim.starts, {j: list(sim.world.motor_command(j) or ()) for j in ARM}))
+
+            sink = io.StringIO()
+            with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+                result = run_script(  # in process (on_pass); no wall limit: valgrind is slow
+                    SCRIPT, "2w1a", seed=2021, trace=False, stderr=sink, wall_timeout=36000,
+                    on_pass=on_pass,
+                )  # fmt: skip
+            sim, wall, cpu = result.sim_time, time.perf_counter() - started, _cpu() - cpu0
+            if args.log:
+                Path(args.log).write_text(json.dumps(log))
+        print(f"{args.only}: {sim:.1f} simulated s, {wall:.2f} s wall, {cpu:.2f} s cpu")
         return 0
     with tempfile.TemporaryDirectory(prefix="scene-bench-") as tmp:
         return measure(args, Path(tmp))
@@ -131,10 +208,14 @@ def measure(args: argparse.Namespace, tmp: Path) -> int:
         runs.append(("2w1a, no self-collision *", without_self_collision(tmp), cache))
     for _, scene, where in runs:  # warm up: imports; fills the scene cache
         one(scene, where)
+    log = record("2w1a")
     best: dict[str, tuple[float, float, float]] = {}
     for _ in range(args.repeat):
-        for label, scene, where in runs:
-            sim, wall, cpu = one(scene, where)
+        for label, scene, where in [*runs, ("2w1a, bare pybullet stepping", "2w1a", "")]:
+            if where:
+                sim, wall, cpu = one(scene, where)
+            else:
+                sim, wall, cpu = bare(scene, log)
             old = best.get(label)
             best[label] = (
                 sim,
@@ -154,6 +235,12 @@ def measure(args: argparse.Namespace, tmp: Path) -> int:
             f" {cpu:>7.2f} {sim / cpu:>7.0f} {sim / cpu / hand_cpu:>8.2f}"
         )
     print("(best of --repeat runs; wall = elapsed, cpu = CPU time of the run, its child included)")
+    api, floor = best["2w1a"], best["2w1a, bare pybullet stepping"]
+    print(
+        f"2w1a through the remote API vs bare pybullet stepping: "
+        f"{(api[0] / api[1]) / (floor[0] / floor[1]):.2f} (wall), "
+        f"{(api[0] / api[2]) / (floor[0] / floor[2]):.2f} (cpu)"
+    )
     if args.explain:
         print("* diagnostic: the scene with its robot's self-collision masked off, not its physics")
         print(f"\n{'scene':<28} {'contact points':>15} {'of them self':>13}  (at each pass end)")

@@ -54,9 +54,9 @@ class World(Protocol):
     steps: int
     timestep: float
 
-    def _link_frame(self, body: int, link: int) -> tuple: ...
+    def link_frame(self, body: int, link: int) -> tuple: ...
 
-    def _lookup(self, handle: int | str) -> str: ...
+    def object_name(self, handle: int | str) -> str: ...
 
 
 #: (distance from the sensor origin, point and normal in the sensor frame, body, link)
@@ -115,7 +115,7 @@ class ProximitySensors:
         """Each ray of a sensor: None, or its hit in the sensor frame."""
         cast = self._reading(name)
         if cast is None:
-            return [None] * len(self.by_name[self.world._lookup(name)].rays)
+            return [None] * len(self.by_name[self.world.object_name(name)].rays)
         return [None if h[0] < 0 else _hit_in_frame(h, cast.origin, cast.rot) for h in cast.hits]
 
     def nearest(self, name: str) -> Hit | None:
@@ -130,7 +130,7 @@ class ProximitySensors:
 
     def handle(self, name: str) -> Hit | None:
         """Cast one sensor now (``sim.handleProximitySensor(handle)``): its nearest hit."""
-        name = self.world._lookup(name)
+        name = self.world.object_name(name)
         self._cast([name])
         return self.nearest(name)
 
@@ -155,7 +155,7 @@ class ProximitySensors:
         self._generation += 1
 
     def _reading(self, name: str) -> Cast | None:
-        name = self.world._lookup(name)
+        name = self.world.object_name(name)
         cast = self._casts.get(name)
         if self.mode == "main-script":
             return cast
@@ -197,7 +197,7 @@ class ProximitySensors:
             key = (s.body, s.link)
             frame = frames.get(key)
             if frame is None:
-                frame = frames[key] = w._link_frame(s.body, s.link)
+                frame = frames[key] = w.link_frame(s.body, s.link)
             pos, orn = p.multiplyTransforms(frame[0], frame[1], s.offset_pos, s.offset_orn)
             poses.append((tuple(pos), p.getMatrixFromQuaternion(orn)))  # rotation: row-major
             groups.setdefault(len(s.rays), []).append(i)

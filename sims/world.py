@@ -22,13 +22,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from sims.joint_motors import JointMotors
 from sims.models import build_scene
-from sims.models.common import JointRef, ObjectRef, ProxSensor, SceneModel
+from sims.models.common import IDENTITY, JointRef, ObjectRef, ProxSensor, SceneModel
 from sims.proximity import Hit, ProximitySensors
 from sims.quiet import pybullet as p
+from sims.world_drawing import WorldDrawing
+from sims.world_holds import Holds
+from sims.world_mech import Mechanisms
 from sims.world_objects import WorldObjects
 from sims.world_tree import TreeEntry, make_tree
 
@@ -43,7 +44,7 @@ def _scene_label(scene: Any) -> str:
     return str(getattr(scene, "source", "") or "scene")
 
 
-class World(JointMotors, WorldObjects):
+class World(JointMotors, WorldDrawing, Mechanisms, Holds, WorldObjects):
     """One pybullet physics client in DIRECT mode holding one scene ("2w1a" or "cart")."""
 
     def __init__(
@@ -98,6 +99,9 @@ class World(JointMotors, WorldObjects):
         p.setGravity(0, 0, GRAVITY, physicsClientId=c)
         p.setTimeStep(self.timestep, physicsClientId=c)
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
+        physics = getattr(self.source, "physics", None)
+        if physics is not None:  # the scene's own solver settings (CoppeliaSim saves them)
+            p.setPhysicsEngineParameter(numSolverIterations=physics.iterations, physicsClientId=c)
         if isinstance(self.source, str):
             self.model: SceneModel = build_scene(self.source, c, self.seed, **self.scene_options)
         else:
@@ -114,9 +118,16 @@ class World(JointMotors, WorldObjects):
         self._inertial: dict[int, Pose] = {}
         self._springs: dict[str, float] = {}  # spring-damper joints: rest position
         self._commands: dict[str, tuple[str, float]] = {}  # last motor command per joint
+        self._modes: dict[str, tuple[str, bool]] = {}  # CoppeliaSim joint modes (world_mech)
+        self._callbacks = {}  # custom joint controllers (set_joint_callback)
+        self._forces = {}  # forces scripts added this pass (sim.addForce)
+        step = getattr(self.source, "time_step", 0.05) or 0.05
+        self.pass_steps = max(1, round(step / self.timestep))  # physics steps per pass
         for j in self.model.joints:
             self._init_motor(j)
         self._objects_rebuilt()  # objects created while stopped come back (world_objects.py)
+        self._build_count = getattr(self, "_build_count", 0) + 1
+        self._build_mechanisms()
         self.time = 0.0
         self.steps = 0
 
@@ -159,15 +170,34 @@ class World(JointMotors, WorldObjects):
 
     # -- time --------------------------------------------------------------------------------
     def step(self, n: int = 1) -> None:
+        c, step_simulation = self._cid, p.stepSimulation  # looked up once: this loop is hot
+        sensors = self._proximity if self._proximity.mode == "main-script" else None
         for _ in range(n):
-            if self._springs:
-                self._apply_springs()
-            p.stepSimulation(physicsClientId=self._cid)
+            if self._pass_work and self.steps % self.pass_steps == 0:
+                self.main_script_actuation(self.pass_steps * self.timestep)
+            if self._springs or self._belts or self._callbacks or self._forces:
+                self._before_step()
+            step_simulation(physicsClientId=c)
             self.steps += 1
             self.time = self.steps * self.timestep
-            self._proximity.stepped()
-            for hook in list(self._hooks):
-                hook(self)
+            if self._forces and self.steps % self.pass_steps == 0:
+                self._forces.clear()  # a pass's added forces end with its dynamics
+            if sensors is not None:
+                sensors.stepped()
+            if self._hooks:
+                for hook in tuple(self._hooks):
+                    hook(self)
+
+    def _before_step(self) -> None:
+        """Springs, moving surfaces and custom joint controllers act before each step."""
+        if self._springs:
+            self._apply_springs()
+        if self._belts:
+            self._drive_belts()
+        if self._callbacks:
+            self._run_joint_callbacks()
+        if self._forces:
+            self._apply_forces()
 
     def advance(self, seconds: float) -> None:
         self.step(max(0, round(seconds / self.timestep)))
@@ -216,25 +246,46 @@ class World(JointMotors, WorldObjects):
     def is_joint(self, handle: int) -> bool:
         return self.name_of(handle) in self._joints
 
-    def _lookup(self, handle: int | str) -> str:
+    def object_name(self, handle: int | str) -> str:
+        """The name of a handle (or a name): KeyError when the scene has no such object."""
         name = handle if isinstance(handle, str) else self.name_of(handle)
         if name is None or name not in self._handles:
             raise KeyError(f"no object with handle {handle!r} in scene {self.scene!r}")
         return name
 
-    def _joint(self, handle: int | str) -> JointRef:
-        name = self._lookup(handle)
+    def joint(self, handle: int | str) -> JointRef:
+        """The joint's record (its pybullet body and index, limits, mode): KeyError when the
+        object is not a joint."""
+        name = self.object_name(handle)
         if name not in self._joints:
             raise KeyError(f"{name!r} is not a joint")
         return self._joints[name]
 
+    def joints(self) -> list[JointRef]:
+        """Every joint, in the scene's order."""
+        return list(self._joints.values())
+
+    def motor_command(self, handle: int | str) -> tuple[str, float] | None:
+        """The last command sent to the joint's motor: ("position", rad or m) or ("velocity",
+        rad/s or m/s); None when none was sent since the (re)start."""
+        return self._commands.get(self.joint(handle).name)
+
+    def proximity_sensor(self, handle: int | str) -> ProxSensor:
+        """The proximity sensor's record (its frame on a link and its rays)."""
+        name = self.object_name(handle)
+        if name not in self._sensors:
+            raise KeyError(f"{name!r} is not a proximity sensor")
+        return self._sensors[name]
+
     # -- poses -------------------------------------------------------------------------------
     def object_pose(self, handle: int | str) -> Pose:
         """World position and quaternion (xyzw) of the object's CoppeliaSim frame."""
-        name = self._lookup(handle)
+        name = self.object_name(handle)
         if name in self._joints:
             j = self._joints[name]
-            pos, orn = self._link_frame(j.body, j.index)
+            if j.closure is not None:
+                return self._closure_frames(j)[0]
+            pos, orn = self.link_frame(j.body, j.index)
             if j.own_frame and j.kind != "spherical":
                 q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
                 if j.kind == "prismatic":
@@ -248,11 +299,29 @@ class World(JointMotors, WorldObjects):
             ref = ObjectRef(name, s.body, s.link, s.offset_pos, s.offset_orn)
         else:
             ref = self._objects[name]
-        pos, orn = self._link_frame(ref.body, ref.link)
+            if ref.via:
+                return self._hanging_pose(ref)
+        pos, orn = self.link_frame(ref.body, ref.link)
         pos, orn = p.multiplyTransforms(pos, orn, ref.offset_pos, ref.offset_orn)
         return tuple(pos), tuple(orn)  # type: ignore[return-value]
 
-    def _link_frame(self, body: int, link: int) -> Pose:
+    def _hanging_pose(self, ref: ObjectRef) -> Pose:
+        """An object under a loop's closing joint: the joint's frame on its parent link, moved
+        by the joint's position, then the object's offset (sims/scene/loops.py)."""
+        j = self._joints[ref.via]
+        pos, orn = self._closure_frames(j)[0]
+        q = self.joint_position(j.name)
+        if j.kind == "prismatic":
+            move: Pose = ((0.0, 0.0, q), IDENTITY)
+        else:
+            move = ((0.0, 0.0, 0.0), (0.0, 0.0, math.sin(q / 2), math.cos(q / 2)))
+        pos, orn = p.multiplyTransforms(pos, orn, *move)
+        pos, orn = p.multiplyTransforms(pos, orn, *ref.via_offset)
+        return tuple(pos), tuple(orn)  # type: ignore[return-value]
+
+    def link_frame(self, body: int, link: int) -> Pose:
+        """World frame of a pybullet link (``link`` -1: the body's base frame, not its centre
+        of mass; ``body`` -1: the world)."""
         c = self._cid
         if body < 0:  # a frame fixed in the world
             return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
@@ -321,39 +390,3 @@ class World(JointMotors, WorldObjects):
             for cp in p.getContactPoints(robot, obstacle, physicsClientId=self._cid):
                 out.append((by_link.get(cp[3], str(cp[3])), obstacle))
         return out
-
-    # -- rendering ---------------------------------------------------------------------------
-    def render(
-        self, width: int, height: int, follow: str | None = None, camera: Any = None
-    ) -> np.ndarray:
-        """HxWx3 uint8 RGB from a chase camera on ``follow`` (default: the scene's robot), or
-        from ``camera``: (view, projection) matrices (sims.camera's fixed overview)."""
-        self.sync_visuals()
-        if self._renderer is None:
-            from sims.render import Renderer
-
-            self._renderer = Renderer(self, prefer="tinyrenderer")
-        return self._renderer.render(width, height, follow or self.model.robot, camera)
-
-    def sync_visuals(self) -> None:
-        """Put a scene file's visual-only bodies on their links (done before drawing only)."""
-        c = self._cid
-        data = self.model.data
-        if "looks" in data and "visuals" not in data:
-            from sims.scene.bodies import create_visuals
-
-            data["visuals"] = create_visuals(c, data["looks"])
-        for v in data.get("visuals", ()):
-            pos, orn = self._link_frame(v.body, v.link)
-            pos, orn = p.multiplyTransforms(pos, orn, *v.offset)
-            p.resetBasePositionAndOrientation(v.uid, pos, orn, physicsClientId=c)
-
-    @property
-    def renderer(self) -> str:
-        """Which renderer ran (or will run): "egl" or "tinyrenderer"."""
-        return "tinyrenderer" if self._renderer is None else self._renderer.name
-
-    @property
-    def renderer_fallback(self) -> str | None:
-        """Why EGL was asked for and TinyRenderer runs instead (None: no fallback)."""
-        return None if self._renderer is None else self._renderer.fallback_reason

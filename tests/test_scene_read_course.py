@@ -49,6 +49,10 @@ SCENES = {
     "course/fanuc_m710ic_50_pick_and_place.ttt": [],
     "course/fanuc_m710ic_50_pick_and_place.simscene.xml": [],
     "course/tablefootball.ttt": ["course/AvsB.py"],
+    "course2/Scene_CheckPoint3.ttt": ["course2/Scene_CheckPoint3.py"],
+    "course2/jansen_solvespace.ttt": [],
+    "course2/invertedPendulum.ttt": [],
+    "course2/ur5WithRg2Grasping.ttt": [],
 }
 # names passed to simxGetObjectHandle, or to the Pioneer package's joint/sensor helpers
 LOOKUPS = re.compile(

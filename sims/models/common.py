@@ -16,6 +16,7 @@ from sims.quiet import pybullet as p
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 IDENTITY: Quat = (0.0, 0.0, 0.0, 1.0)
+Tf = tuple[Vec3, Quat]
 TILE_DEPTH = 0.003  # visual depth of the floor's checker tiles (m)
 MAX_COMPOUND = 16  # pybullet keeps at most 16 shapes of a createVisualShapeArray
 
@@ -29,6 +30,21 @@ class ObjectRef:
     link: int
     offset_pos: Vec3 = (0.0, 0.0, 0.0)
     offset_orn: Quat = IDENTITY
+    via: str = ""  # hangs from this loop-closing joint: pose = its moved frame x ``via_offset``
+    via_offset: tuple[Vec3, Quat] = ((0.0, 0.0, 0.0), IDENTITY)
+
+
+@dataclass(frozen=True)
+class Closure:
+    """A joint that closes a kinematic loop and has no pybullet joint of its own (constraints
+    hold it: sims/scene/loops.py). Its parent link is the JointRef's ``body``/``index``; its
+    position is the turn (about z) of ``child_frame`` on the child link relative to
+    ``parent_frame`` on the parent link (frames relative to the links' frames)."""
+
+    child_body: int
+    child_link: int
+    parent_frame: Tf
+    child_frame: Tf
 
 
 @dataclass(frozen=True)
@@ -59,6 +75,7 @@ class JointRef:
     initial_velocity: float = 0.0  # mode "velocity": the saved target velocity
     initial_target: float | None = None  # mode "position"/"spring": saved target (None: zero)
     coppelia_mode: int | None = None  # the mode CoppeliaSim reports (0 passive, 1 motion...)
+    closure: Closure | None = None  # a loop's closing joint: no pybullet joint of its own
 
 
 @dataclass(frozen=True)

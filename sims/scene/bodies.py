@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from sims.models.common import MAX_COMPOUND
 from sims.quiet import pybullet as p
 from sims.quiet import quiet_fd
 from sims.scene import shapes as S
@@ -95,8 +96,15 @@ def _collides(part: S.Part, fixed: bool) -> bool:
     return fixed or part.respondable or not part.static
 
 
+def compound_shape(c: int, parts: list[S.Part]) -> int:
+    """One collision shape for the primitive parts (the first MAX_COMPOUND), or -1."""
+    return _compound(c, parts)[0]
+
+
 def _compound(c: int, parts: list[S.Part]) -> tuple[int, list[S.Part]]:
-    """One collision shape for the primitive parts; returns it and the parts left over."""
+    """One collision shape for the primitive parts; returns it and the parts left over (meshes,
+    and primitives past the first MAX_COMPOUND: pybullet silently keeps only that many shapes
+    of an array, which left the conveyor's belt box out of its collision shape)."""
     prims, rest = [], []
     for part in parts:
         geometry = S.geometry(part)
@@ -104,6 +112,10 @@ def _compound(c: int, parts: list[S.Part]) -> tuple[int, list[S.Part]]:
             prims.append((part, geometry[0]))
         elif geometry is not None:
             rest.append(part)
+    if len(prims) > MAX_COMPOUND:  # respondable ones first: they matter most in the compound
+        prims.sort(key=lambda item: not item[0].respondable)
+        rest = [part for part, _ in prims[MAX_COMPOUND:]] + rest
+        prims = prims[:MAX_COMPOUND]
     if not prims:
         return -1, rest
     col = p.createCollisionShapeArray(
@@ -118,6 +130,14 @@ def _compound(c: int, parts: list[S.Part]) -> tuple[int, list[S.Part]]:
     return col, rest
 
 
+def _apart(parts: list[tuple[S.Part, SceneObject]]) -> set[int]:
+    """On a fixed body, the respondable parts of every shape but the first each get a link of
+    their own, so that one of them can be switched off or set moving alone (a conveyor's belt:
+    World.set_initial_velocity)."""
+    owners = [o.handle for pt, o in parts if pt.respondable]
+    return {id(pt) for pt, o in parts if pt.respondable and owners and o.handle != owners[0]}
+
+
 def create_body(client: int, body: Body) -> Created:
     c = client
     links = body.links
@@ -126,12 +146,16 @@ def create_body(client: int, body: Body) -> Created:
     own_col: dict[int, int] = {}
     extra: list[tuple[int, S.Part, SceneObject, int]] = []  # (planned, part, owner, shape id)
     colliding: dict[int, list[tuple[S.Part, SceneObject]]] = {}
+    in_compound: dict[int, set[int]] = {}
     for i, link in enumerate(links):
         fixed = body.fixed and i == 0
         mine = [(pt, o) for pt, o in link.parts if _collides(pt, fixed)]
         colliding[i] = mine
-        col, rest = _compound(c, [pt for pt, _ in mine])
+        apart = _apart(mine) if fixed else set()
+        col, rest = _compound(c, [pt for pt, _ in mine if id(pt) not in apart])
+        rest = [pt for pt, _ in mine if id(pt) in apart] + rest
         own_col[i] = col
+        in_compound[i] = {id(pt) for pt, _ in mine} - {id(pt) for pt in rest}
         owners = {id(pt): o for pt, o in mine}
         for part in rest:
             shape_id = S.create_collision(c, part, fixed)
@@ -156,7 +180,7 @@ def create_body(client: int, body: Body) -> Created:
     parts: list[tuple[int, int, S.Part, SceneObject]] = []
     for i, mine in colliding.items():
         if own_col[i] >= 0:
-            parts += [(rows[i], i, pt, o) for pt, o in mine if S.is_primitive(pt)]
+            parts += [(rows[i], i, pt, o) for pt, o in mine if id(pt) in in_compound[i]]
     for i, part, owner, shape_id in extra:
         parts.append((len(spec), i, part, owner))
         spec.append(

@@ -32,6 +32,7 @@ from sims.models.common import (
     add_checker_floor,
 )
 from sims.quiet import pybullet as p
+from sims.scene import loops
 from sims.scene import sensors as sensor_rays
 from sims.scene import shapes as S
 from sims.scene.bodies import IDENTITY_TF, STATIC, Body, Created, Link, Tf, create_body, inv, mul
@@ -74,9 +75,12 @@ class _Planner:
                 self.notes.append(f"{o.name}: its parent {o.parent} is missing: put at the top")
             self.kids.setdefault(parent, []).append(o)
         self.full: dict[int, Tf] = {}  # world frame (a joint's: after its saved motion)
+        self.base: dict[int, Tf] = {}  # world frame before a joint's saved motion
+        self.closing = loops.closing_joints(scene, self.kids)
+        self.closing_parent: dict[int, tuple[int, int] | None] = {}  # closing joint -> link
         self.bodies: list[Body] = []
         self.where: dict[int, tuple[int, int]] = {}  # handle -> (body, planned link)
-        self.model_of: dict[int, int | None] = {}
+        self.model_of: dict[int, int | None] = {}  # handle -> its tree's top object
         seen: set[int] = set()
         for o in self.kids.get(None, []):
             self._visit(o, IDENTITY_TF, None, None, seen)
@@ -84,6 +88,22 @@ class _Planner:
             if o.handle not in seen:
                 self.notes.append(f"{o.name}: in a parent loop: put at the top")
                 self._visit(o, IDENTITY_TF, None, None, seen)
+        for cj in self.closing.values():  # what hangs from a closing joint rides on body B
+            at = self.where.get(cj.partner.handle)
+            for h in cj.below:
+                if at is not None:
+                    self.where[h] = at
+                else:
+                    self.where.pop(h, None)
+
+    def joined(self) -> set[frozenset[tuple[int, int]]]:
+        """Pairs of planned links (body, link) that a closing joint joins."""
+        out = set()
+        for h, cj in self.closing.items():
+            a, b = self.closing_parent.get(h), self.where.get(cj.partner.handle)
+            if a is not None and b is not None:
+                out.add(frozenset((a, b)))
+        return out
 
     def _visit(self, o, parent_frame, at, model, seen) -> None:
         if o.handle in seen:
@@ -92,7 +112,8 @@ class _Planner:
         base = mul(parent_frame, _tf(o.pose))
         full = mul(base, _displacement(o))
         self.full[o.handle] = full
-        model = o.handle if o.model_base else model
+        self.base[o.handle] = base
+        model = o.handle if model is None else model  # the tree's root (see _filter_pairs)
         self.model_of[o.handle] = model
         shape = o.shape if o.kind == "shape" else None
         if shape is not None and not shape.dynamics.static:
@@ -104,6 +125,9 @@ class _Planner:
                     at = self._new_body(full, o, fixed=False)
             else:
                 at = self._new_body(full, o, fixed=False)
+        elif o.handle in self.closing:
+            self.closing_parent[o.handle] = at
+            at = None
         elif _is_joint(o):
             if o.kind == "joint" and o.joint is not None and o.joint.kind not in MOVING:
                 self.notes.append(f"{o.name}: joint kind {o.joint.kind!r} held rigid")
@@ -139,10 +163,11 @@ def build(scene: Scene, client: int, seed: int = 0, floor: bool | None = None) -
     ``floor``: add sitegen's checker floor (default: only when the scene has no fixed
     respondable shape to stand on)."""
     del seed  # a scene file has no random parts
+    scene = model_overrides(scene)
     plan = _Planner(scene)
     created = [create_body(client, body) for body in plan.bodies]
     _filter_pairs(client, plan, created)
-    _close_loops(client, scene, plan, created)
+    closing = loops.close(client, scene, plan, created, joint_ref)
     has_ground = any(
         body.fixed and any(part.respondable for part, _ in body.links[0].parts)
         for body in plan.bodies
@@ -152,12 +177,39 @@ def build(scene: Scene, client: int, seed: int = 0, floor: bool | None = None) -
         p.setCollisionFilterGroupMask(
             ground, -1, STATIC, S.RESPONDABLE | S.RAY, physicsClientId=client
         )
-    return _model(scene, plan, created)
+    return _model(scene, plan, created, closing)
+
+
+def model_overrides(scene: Scene) -> Scene:
+    """A model's "not dynamic" / "not respondable" override applies to every shape of its
+    tree (CoppeliaSim's cumulative model property): such shapes are built static or not
+    respondable. The Pioneer scene's walls are dynamic shapes in not-dynamic models."""
+    table = scene.by_handle()
+    if not any(o.not_dynamic or o.not_respondable for o in scene.objects):
+        return scene
+    objects = []
+    for o in scene.objects:
+        static = respondable_off = False
+        cur, seen = o, 0
+        while cur is not None and seen < len(table):
+            static |= cur.not_dynamic
+            respondable_off |= cur.not_respondable
+            cur = table.get(cur.parent) if cur.parent is not None else None
+            seen += 1
+        if o.shape is not None and (static or respondable_off):
+            d = o.shape.dynamics
+            d = dataclasses.replace(
+                d, static=d.static or static, respondable=d.respondable and not respondable_off
+            )
+            o = dataclasses.replace(o, shape=dataclasses.replace(o.shape, dynamics=d))
+        objects.append(o)
+    return dataclasses.replace(scene, objects=tuple(objects))
 
 
 def _filter_pairs(client: int, plan: _Planner, created: list[Created]) -> None:
-    """Switch off the link pairs that must not collide: respondable masks (the low byte within
-    one model, the high byte between models), parts of one link, links joined by a joint."""
+    """Switch off the link pairs that must not collide: respondable masks (the low byte
+    between shapes of one tree, the high byte between trees: CoppeliaSim's Bullet plugin
+    compares the shapes' topmost ancestors), parts of one link, links joined by a joint."""
     links: dict[tuple, list] = {}  # (body, uid, row, planned) -> [mask, model]
     for b, made in enumerate(created):
         for row, planned, part, owner in made.parts:
@@ -166,6 +218,7 @@ def _filter_pairs(client: int, plan: _Planner, created: list[Created]) -> None:
                 entry[0] |= owner.shape.dynamics.respondable_mask
                 entry[1] = entry[1] if entry[1] is not None else plan.model_of[owner.handle]
     items = [(*key, mask, model) for key, (mask, model) in links.items()]
+    joined = plan.joined()
     for i, a in enumerate(items):
         for bb in items[i + 1 :]:
             same_body = a[0] == bb[0]
@@ -175,6 +228,7 @@ def _filter_pairs(client: int, plan: _Planner, created: list[Created]) -> None:
             if same_body and a[3] == 0 and bb[3] == 0 and plan.bodies[a[0]].fixed:
                 continue  # fixed parts never touch each other anyway
             adjacent = same_body and (a[3] == bb[3] or _joined(plan.bodies[a[0]], a[3], bb[3]))
+            adjacent = adjacent or frozenset(((a[0], a[3]), (bb[0], bb[3]))) in joined
             if adjacent or not S.mask_allows(a[4], bb[4], same_model):
                 p.setCollisionFilterPair(a[1], bb[1], a[2], bb[2], 0, physicsClientId=client)
 
@@ -182,36 +236,6 @@ def _filter_pairs(client: int, plan: _Planner, created: list[Created]) -> None:
 def _joined(body: Any, a: int, b: int) -> bool:
     """Links ``a`` and ``b`` are joined directly by a joint (one is the other's parent)."""
     return body.links[a].parent == b or body.links[b].parent == a
-
-
-def _close_loops(client: int, scene: Scene, plan: _Planner, created: list[Created]) -> None:
-    """Two linked dummies with a dynamics link type hold their frames' origins together
-    (CoppeliaSim's loop closure, e.g. a four-bar linkage): a pybullet point-to-point
-    constraint between the links that carry them."""
-    done: set[frozenset[int]] = set()
-    for o in scene.objects:
-        data = getattr(o, "dummy", None)
-        other = getattr(data, "linked_to", None)
-        kind = str(getattr(data, "link_type", "") or "")
-        if other is None or other not in plan.table or not kind.startswith("dynamics"):
-            continue
-        pair = frozenset((o.handle, other))
-        if pair in done or o.handle not in plan.where or other not in plan.where:
-            continue
-        done.add(pair)
-        ends = []
-        for h in (o.handle, other):
-            b, planned = plan.where[h]
-            made, link = created[b], plan.bodies[b].links[planned]
-            row = made.rows[planned]
-            info = p.getDynamicsInfo(made.uid, row, physicsClientId=client)
-            com = inv((info[3], info[4]))  # constraint frames are relative to the link's COM
-            ends.append((made.uid, row, mul(com, mul(inv(link.frame), plan.full[h]))[0]))
-        (ua, la, pa), (ub, lb, pb) = ends
-        cid = p.createConstraint(
-            ua, la, ub, lb, p.JOINT_POINT2POINT, (0, 0, 0), pa, pb, physicsClientId=client
-        )
-        p.changeConstraint(cid, maxForce=1e4, erp=0.8, physicsClientId=client)
 
 
 #: CoppeliaSim's joint mode codes (simxGetObjectGroupData type 16) by the model's mode.
@@ -224,7 +248,7 @@ def _mode_code(o: SceneObject, notes: tuple) -> int:
     return MODE_CODES.get(o.joint.mode if o.joint else "", 5)
 
 
-def _joint_ref(o: SceneObject, uid: int, row: int) -> JointRef:
+def joint_ref(o: SceneObject, uid: int, row: int) -> JointRef:
     j = o.joint
     assert j is not None
     lower = upper = None
@@ -253,7 +277,9 @@ def _joint_ref(o: SceneObject, uid: int, row: int) -> JointRef:
     )
 
 
-def _model(scene: Scene, plan: _Planner, created: list[Created]) -> SceneModel:
+def _model(
+    scene: Scene, plan: _Planner, created: list[Created], closing: dict[int, JointRef]
+) -> SceneModel:
     objects: list[ObjectRef] = []
     joints: list[JointRef] = []
     prox: list[ProxSensor] = []
@@ -266,8 +292,10 @@ def _model(scene: Scene, plan: _Planner, created: list[Created]) -> SceneModel:
         else:
             made, link = created[at[0]], plan.bodies[at[0]].links[at[1]]
             uid, row, frame = made.uid, made.rows[at[1]], link.frame
-        if o.kind == "joint" and o.joint is not None and at is not None and at[1] > 0:
-            ref = _joint_ref(o, uid, row)
+        if o.handle in closing or (
+            o.kind == "joint" and o.joint is not None and at is not None and at[1] > 0
+        ):
+            ref = closing.get(o.handle) or joint_ref(o, uid, row)
             joints.append(dataclasses.replace(ref, coppelia_mode=_mode_code(o, scene.notes)))
             continue
         offset = mul(inv(frame), plan.full[o.handle])
@@ -275,10 +303,14 @@ def _model(scene: Scene, plan: _Planner, created: list[Created]) -> SceneModel:
             ps = o.proximity_sensor
             prox.append(ProxSensor(o.name, uid, row, *offset, sensor_rays.rays(ps), ps.explicit))
             continue
-        objects.append(ObjectRef(o.name, uid, row, *offset))
+        objects.append(ObjectRef(o.name, uid, row, *offset, *_via(plan, o)))
+    rows: dict[str, list[tuple[int, int]]] = {}
     for made in created:
         for row, _planned, _part, owner in made.parts:
             data.setdefault(("link", made.uid, row), owner.name)
+            if (made.uid, row) not in rows.setdefault(owner.name, []):
+                rows[owner.name].append((made.uid, row))
+    data["collision_rows"] = rows  # shape name -> the pybullet links its collision parts are on
     names = {o.handle: o.name for o in scene.objects}
     tree = [
         TreeNode(o.name, o.kind, names.get(o.parent) if o.parent is not None else None, o.alias)
@@ -297,6 +329,15 @@ def _model(scene: Scene, plan: _Planner, created: list[Created]) -> SceneModel:
         notes=plan.notes + [f"{n.where}: {n.message}" for n in scene.notes],
         camera=CameraSetup(max(0.5, 3.0 * extent), 35.0, -30.0, 0.05),
     )
+
+
+def _via(plan: _Planner, o: SceneObject) -> tuple[str, Tf]:
+    """An object under a closing joint hangs from that joint's moved frame (its pose shows
+    how well the loop is closed); others: ("", identity)."""
+    for h, cj in plan.closing.items():
+        if o.handle in cj.below:
+            return cj.joint.name, mul(inv(plan.full[h]), plan.full[o.handle])
+    return "", IDENTITY_TF
 
 
 def _main_object(scene: Scene, plan: _Planner) -> tuple[str, float]:

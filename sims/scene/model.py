@@ -25,6 +25,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from sims.scene.model_mech import IkElement as IkElement  # re-exported: part of the model
+from sims.scene.model_mech import IkGroup as IkGroup
+from sims.scene.model_mech import PathData as PathData
+from sims.scene.model_mech import PathPoint as PathPoint
+from sims.scene.model_mech import Physics as Physics
+
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 RGB = tuple[float, float, float]
@@ -55,6 +61,7 @@ class Mesh:
     color: RGB = (0.8, 0.8, 0.8)  # ambient/diffuse colour
     visible: bool = True
     wireframe: bool = False
+    convex: bool | None = None  # CoppeliaSim's own flag (None: the file does not say)
 
 
 @dataclass(frozen=True)
@@ -115,6 +122,8 @@ class JointData:
     offset: float = 0.0
     coefficient: float = 1.0
     screw_pitch: float = 0.0
+    ik_weight: float = 1.0  # how much IK moves this joint (0: not at all)
+    hybrid: bool = False  # IK sets its position target, the motor drives it (dynamic IK)
     spherical_rotation: Quat = IDENTITY  # a spherical joint's saved position
 
 
@@ -157,6 +166,9 @@ class DummyData:
 
     linked_to: int | None = None
     link_type: str = ""
+    follows_path: bool = False  # 3.x: placed on its parent path at its position + ``path_offset``
+    path_offset: float = 0.0
+    free_on_path: bool = False  # ... at the path point nearest to it instead
 
 
 @dataclass(frozen=True)
@@ -223,6 +235,9 @@ class SceneObject:
     camera: CameraData | None = None
     light: LightData | None = None
     dummy: DummyData | None = None
+    path: PathData | None = None
+    not_dynamic: bool = False  # model override: no shape of its tree is dynamic
+    not_respondable: bool = False  # model override: no shape of its tree responds
 
 
 @dataclass(frozen=True)
@@ -260,6 +275,8 @@ class Scene:
     time_step: float = 0.05  # the simulation time step saved with the scene (s)
     custom_data: tuple[CustomData, ...] = ()  # custom data blocks (sims/scene/custom_data.py)
     script_parameters: tuple[CustomData, ...] = ()  # sim.getScriptSimulationParameter's
+    physics: Physics = field(default_factory=Physics)
+    ik_groups: tuple[IkGroup, ...] = ()
 
     def by_handle(self) -> dict[int, SceneObject]:
         return {o.handle: o for o in self.objects}

@@ -3,9 +3,10 @@
 A CoppeliaSim shape is one mesh or a compound of meshes; each mesh is a primitive (cuboid,
 cylinder, sphere, disc, cone, plane) or a triangle mesh. Primitives become pybullet primitives
 (exact and fast to collide); a cone, an ellipsoid or a plain mesh becomes a pybullet mesh built
-from the saved vertices. pybullet can only collide a *dynamic* body with a convex mesh, so a
-dynamic mesh collides as its convex hull (as CoppeliaSim's Bullet engine does with a non-pure
-dynamic shape); a static mesh keeps its triangles.
+from the saved vertices. pybullet can only collide a *dynamic* body with convex shapes: a
+dynamic mesh CoppeliaSim calls convex collides as its convex hull (as there), any other as
+convex parts (sims/scene/convex_parts.py; CoppeliaSim collides it as its triangles); a static
+mesh keeps its triangles.
 
 Collision filters: respondable shapes are in group ``RESPONDABLE`` and collide with each other;
 non-respondable shapes keep a collision shape in group ``DETECTABLE`` that collides with nothing
@@ -21,7 +22,10 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from sims.quiet import pybullet as p
+from sims.scene import convex_parts
 from sims.scene.model import Mesh, Pose
 
 RAY = 1  # the group pybullet's ray tests belong to
@@ -109,12 +113,27 @@ def create_collision(client: int, part: Part, fixed: bool) -> int:
     col = dict(g[0])
     if col["shapeType"] == p.GEOM_MESH and not fixed:
         del col["indices"]
+        if _concave(part.mesh, col["vertices"], g[0]["indices"]):
+            points = np.asarray(col.pop("vertices"), dtype=np.float64)
+            triangles = np.asarray(g[0]["indices"], dtype=np.int64).reshape(-1, 3)
+            col["fileName"] = convex_parts.decomposition(points, triangles)
     return p.createCollisionShape(
         **col,
         collisionFramePosition=part.pose.position,
         collisionFrameOrientation=part.pose.quaternion,
         physicsClientId=client,
     )
+
+
+def _concave(mesh: Mesh, vertices: list, indices: list) -> bool:
+    """CoppeliaSim's own convexity flag, else the mesh's shape: a mesh that is not convex
+    collides as convex parts (sims/scene/convex_parts.py), as CoppeliaSim collides it as its
+    triangles."""
+    if mesh.convex is not None:
+        return not mesh.convex
+    points = np.asarray(vertices, dtype=np.float64)
+    triangles = np.asarray(indices, dtype=np.int64).reshape(-1, 3)
+    return not convex_parts.is_convex(points, triangles)
 
 
 def mesh_file(points: list, triangles: list) -> str:
@@ -166,7 +185,7 @@ def set_filter(client: int, body: int, link: int, respondable: bool) -> None:
 
 
 def mask_allows(mask_a: int, mask_b: int, same_model: bool) -> bool:
-    """CoppeliaSim's respondable masks: the low byte between shapes of one model, the high byte
-    between shapes of different models."""
+    """CoppeliaSim's respondable masks: the low byte between shapes of one tree (the same
+    topmost ancestor), the high byte between shapes of different trees."""
     bits = 0x00FF if same_model else 0xFF00
     return bool(mask_a & mask_b & bits)

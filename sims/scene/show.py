@@ -19,7 +19,9 @@ from located.verbosity import add_verbosity
 from sims.scene.errors import SceneError
 from sims.scene.load import load_scene
 from sims.scene.model import Pose, Scene, SceneObject
+from sims.scene.resolve import SceneFileError, is_bundled, open_scene
 from sims.scene.rotations import euler_degrees
+from sims.scene.show_mech import hand_built_report, mechanism_lines, mechanisms
 
 
 def _clean(text: str) -> str:
@@ -134,6 +136,7 @@ def text_report(scene: Scene) -> str:
             lines.append(
                 f"  {s.kind} ({where}){' ' + ', '.join(flags) if flags else ''}: {n} lines"
             )
+    lines += mechanism_lines(scene)
     lines.append("")
     if scene.notes:
         lines.append("Not understood or not used:")
@@ -220,6 +223,7 @@ def json_report(scene: Scene) -> str:
             for s in scene.scripts
         ],
         "notes": [{"where": n.where, "message": n.message} for n in scene.notes],
+        **mechanisms(scene),
     }
     return json.dumps(doc, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
 
@@ -230,6 +234,16 @@ def _round(v: object) -> object:
     if isinstance(v, tuple):
         return [_round(x) for x in v]
     return v
+
+
+def _open(path: str) -> Scene | str:
+    """A scene file, or a bundled name as ``remote-api run`` takes it (a file that exists by
+    that name wins): the shipped description, or the name of a scene built in Python."""
+    import os
+
+    if is_bundled(path) and not os.path.exists(path):
+        return open_scene(path)
+    return load_scene(path)
 
 
 def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
@@ -244,7 +258,7 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
         "names, types, parents, poses, joint modes and ranges, masses, sensors, scripts, and "
         "what the reader did not understand. Loading a scene runs nothing.",
     )
-    show.add_argument("path", help="the scene file")
+    show.add_argument("path", help="the scene file, or a bundled scene name (2w1a, cart)")
     show.add_argument("--json", action="store_true", help="print JSON instead of text")
     conv = sub.add_parser(
         "xml",
@@ -267,10 +281,12 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
     if args.command == "export":  # a bundled name or a file, built into a World
         return export(args, _clean)
     try:
-        scene = load_scene(args.path)
-    except SceneError as exc:
+        scene = _open(args.path)
+    except (SceneError, SceneFileError) as exc:
         print(_clean(str(exc)), file=sys.stderr)
         return 1
+    if isinstance(scene, str):  # a scene built by hand in Python: no file to show
+        return hand_built_report(scene, args)
     if args.verbosity > 0:
         print(f"read {_clean(args.path)}: {len(scene.objects)} objects", file=sys.stderr)
     if args.command == "xml":

@@ -24,9 +24,10 @@ from dataclasses import replace
 
 from sims.scene import custom_data
 from sims.scene.errors import SceneError
-from sims.scene.model import Scene, SceneNote, SceneObject, Script
+from sims.scene.model import IkGroup, Physics, Scene, SceneNote, SceneObject, Script
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, chunk_list, top_level
 from sims.scene.ttt_huffman import HuffmanError, decompress
+from sims.scene.ttt_mech import read_ik_group, read_path, read_physics
 from sims.scene.ttt_objects import (
     Common,
     read_camera,
@@ -84,7 +85,6 @@ SETTINGS = {
     "BBK": "old custom user interfaces",
     "COL": "collision objects",
     "DST": "distance objects",
-    "IKO": "IK groups",
     "GRP": "collections",
     "PPL": "path planning tasks",
 }
@@ -172,6 +172,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
     scripts: list[Script] = []
     gravity = (0.0, 0.0, -9.81)
     time_step = 0.05
+    physics = Physics()
+    ik_groups: list[IkGroup] = []
     skipped: dict[str, int] = {}
     custom: list = []
     params: list = []
@@ -202,6 +204,9 @@ def read_ttt(data: bytes, source: str) -> Scene:
                     scripts.append(script)
             elif c.name == "DYN":
                 gravity = _gravity(buf, c) or gravity
+                physics = read_physics(buf, c)
+            elif c.name == "IKO":
+                ik_groups.append(read_ik_group(buf, c))
             elif c.name == "SIM":
                 time_step = _time_step(buf, c) or time_step
             elif c.name in SETTINGS:
@@ -231,6 +236,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
         time_step=time_step,
         custom_data=tuple(custom),
         script_parameters=tuple(params),
+        physics=physics,
+        ik_groups=tuple(ik_groups),
     )
 
 
@@ -273,6 +280,8 @@ def _read_object(
             extra["light"] = read_light(buf, own)
         elif kind == "dummy":
             extra["dummy"] = read_dummy(buf, own)
+        elif kind == "path":
+            extra["path"] = read_path(buf, own)
         elif kind == "script":  # CoppeliaSim 4.6+: a script is an object of the tree
             for c in own:
                 if c.name == "Soo":
@@ -299,6 +308,8 @@ def _read_object(
         visible=bool(common.layer & 0xFF),
         model_base=common.model_base,
         detectable=common.detectable,
+        not_dynamic=bool(common.model_property & 32),
+        not_respondable=bool(common.model_property & 64),
         raw_type=raw_type,
         **extra,  # type: ignore[arg-type]
     )

@@ -78,6 +78,7 @@ class Common:
         self.model_base = False
         self.layer = 1
         self.detectable = True
+        self.model_property = 0
 
     def read(self, buf: bytes, chunks: list[Chunk]) -> None:
         for c in chunks:
@@ -98,6 +99,8 @@ class Common:
                 self.layer = f.u16()
             elif c.name == "Omp":  # special properties: bits 4-8 detectable by a sensor type
                 self.detectable = bool(f.i32() & DETECTABLE_BITS)
+            elif c.name == "Mpo":  # model properties: 32 not dynamic, 64 not respondable
+                self.model_property = f.i32() & 0x0FFF
 
 
 def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
@@ -149,6 +152,8 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
             v["spherical_rotation"] = (x / norm, y / norm, z / norm, w / norm)
         elif n in ("Jsp", "_sp"):
             v["screw_pitch"] = f.real()[0]
+        elif n in ("Ikw", "_kw"):
+            v["ik_weight"] = f.real()[0]
         elif n == "Dcm":
             dyn_mode = f.i32()
     cyclic = bit(flags, 0)
@@ -165,7 +170,7 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
         else:
             mode = "velocity" if not ctrl else ("spring" if spring else "position")
         if hybrid:
-            notes.append("hybrid (IK + dynamics) joint read as position control")
+            notes.append("hybrid (IK + dynamics) joint: position control, IK sets its target")
             mode, motor, ctrl = "position", True, True
     elif mode_code in (3, 4):
         mode = "dependent"
@@ -185,6 +190,7 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
         mode=mode,
         motor_enabled=motor,
         control_enabled=ctrl,
+        hybrid=hybrid,
         **v,  # type: ignore[arg-type]
     )
 
@@ -192,6 +198,7 @@ def read_joint(buf: bytes, chunks: list[Chunk], notes: list[str]) -> JointData:
 def read_dummy(buf: bytes, chunks: list[Chunk]) -> DummyData:
     linked: int | None = None
     link_type = 0
+    flags, offset = 0, 0.0
     for c in chunks:
         f = Fields(buf, c)
         if c.name == "Lli":
@@ -199,7 +206,17 @@ def read_dummy(buf: bytes, chunks: list[Chunk]) -> DummyData:
             linked = handle if handle >= 0 else None
         elif c.name == "Dl2":
             link_type = f.i32()
-    return DummyData(linked_to=linked, link_type=LINK_TYPES.get(link_type, str(link_type)))
+        elif c.name == "Var":  # bits: 1 follows its parent path, 2 free on it
+            flags = f.u8()
+        elif c.name in ("Po4", "Po5", "_o5"):  # offset along the parent path
+            offset = f.real()[0]
+    return DummyData(
+        linked_to=linked,
+        link_type=LINK_TYPES.get(link_type, str(link_type)),
+        follows_path=bit(flags, 1),
+        path_offset=offset,
+        free_on_path=bit(flags, 2),
+    )
 
 
 def read_proximity(buf: bytes, chunks: list[Chunk]) -> ProximitySensorData:

@@ -172,6 +172,7 @@ class _Part:
     com: tuple[float, float, float] | None = None
     matrix: tuple[float, ...] | None = None
     material: int | None = None
+    convex: bool | None = None  # before 4.5: the wrapper's convex flag
 
 
 def _part_field(buf: bytes, c: Chunk, part: _Part) -> bool:
@@ -189,8 +190,10 @@ def _part_field(buf: bytes, c: Chunk, part: _Part) -> bool:
         part.matrix = f.f64(9)
     elif c.name == "Dmi":
         part.material = f.i32()
+    elif c.name == "Var":
+        part.convex = bit(f.u8(), 2)
     else:
-        return c.name in ("Nme", "Vtb", "_tb", "Var", "Bbf", "Bbs")
+        return c.name in ("Nme", "Vtb", "_tb", "Bbf", "Bbs")
     return True
 
 
@@ -238,6 +241,7 @@ class ShapeReader:
         local = part.frame or Pose()
         color = (0.8, 0.8, 0.8)
         wireframe = False
+        convex = part.convex
         for c in parts:
             f = Fields(self.buf, c)
             if c.name == "Cl0":
@@ -263,6 +267,8 @@ class ShapeReader:
                 local = pose7x(f.real(7))
             elif c.name == "Var":  # bits: 0 visible edges, 1 culling, 2 wireframe
                 wireframe = bit(f.u8(), 2)
+            elif c.name == "Va2":  # 4.5+: bit 0 convex
+                convex = bit(f.u8(), 0)
             elif c.name not in _MESH_IGNORED:
                 self.unknown.add(f"mesh {c.name}")
         if vertices is None or indices is None:
@@ -281,6 +287,7 @@ class ShapeReader:
                 local=local,
                 color=color,
                 wireframe=wireframe,
+                convex=convex,
             )
         )
 
@@ -313,7 +320,7 @@ class ShapeReader:
 
 _MESH_IGNORED = {
     "Cl2", "Ecl", "Nov", "Vvd", "Nor", "No2", "Ved", "Pp2", "_p2", "Gsa", "_sa", "Gs2", "_s2",
-    "Va2", "Hfd", "_fd", "Toj",
+    "Hfd", "_fd", "Toj",
 }  # fmt: skip
 
 

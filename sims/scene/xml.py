@@ -47,7 +47,7 @@ from sims.scene.model import (
     ShapeData,
     VisionSensorData,
 )
-from sims.scene.xml_shapes import read_dynamics, read_geometry
+from sims.scene.xml_shapes import read_dynamics, read_geometry, read_physics
 from sims.scene.xml_values import flag, floats, frame, number, text
 
 OBJECT_TAGS = {
@@ -128,6 +128,7 @@ def read_xml(data: bytes, source: str) -> Scene:
     try:
         gravity = floats(root, "dynamics/gravity", 3) or (0.0, 0.0, -9.81)
         time_step = number(root, "simulation/simulationTimeStep", 0.05)
+        physics = read_physics(root.find("dynamics"))
     except ValueError as exc:
         raise SceneError(source, "settings", str(exc)) from None
     for child in root:
@@ -146,6 +147,7 @@ def read_xml(data: bytes, source: str) -> Scene:
         gravity=gravity,  # type: ignore[arg-type]
         notes=tuple(reader.notes),
         time_step=time_step,
+        physics=physics,
     )
 
 

@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from sims.scene.model import Dynamics, Mesh, Pose
+from sims.scene.model import Dynamics, Mesh, Physics, Pose
 from sims.scene.rotations import principal_axes
 from sims.scene.xml_values import flag, floats, frame, number, text
 
@@ -128,3 +128,15 @@ def read_dynamics(dyn: ET.Element | None, program: int) -> Dynamics:
         friction=friction,
         respondable_mask=int(number(dyn, "respondableMask", 0xFFFF)),
     )
+
+
+def read_physics(el: ET.Element | None) -> Physics:
+    """The scene's ``<dynamics>``: engine, its step and constraint solving iterations."""
+    if el is None:
+        return Physics()
+    engine = text(el, "engine", "bullet") or "bullet"
+    node = el.find(f"engines/{engine}")
+    step = number(node, "stepsize", 0.005) if node is not None else 0.005
+    iterations = int(number(node, "constraintsolvingiterations", 100)) if node is not None else 100
+    enabled = flag(el, "switches/dynamicsEnabled", True)
+    return Physics(engine, step if step > 0 else 0.005, max(1, iterations), enabled)
