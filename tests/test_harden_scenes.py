@@ -285,3 +285,13 @@ def test_showing_a_scene_takes_time_linear_in_its_objects():
     for report in (text_report, json_report):
         ratio = best(report, large) / best(report, small)
         assert ratio < 8, (report.__name__, ratio)
+
+
+def test_an_xml_file_of_empty_elements_is_refused_within_bounded_memory():
+    from sims.scene.xml import read_xml
+
+    flood = b"<CoppeliaSim>" + b"<x/>" * (limits.MAX_XML_ITEMS + 1) + b"</CoppeliaSim>"
+    err, peak = _peak(lambda: read_xml(flood, "flood.simscene.xml"))
+    assert isinstance(err, SceneError) and err.obj == "line 1"
+    assert err.message.startswith(f"more than {limits.MAX_XML_ITEMS:,} XML elements")
+    assert peak < 128, peak  # a 32 MB file of them held 680 MB

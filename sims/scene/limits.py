@@ -31,6 +31,9 @@ MAX_MESH_VALUES = 2_000_000
 MAX_OBJECTS = 100_000
 #: objects inside objects (the deepest course scene: 24 levels)
 MAX_DEPTH = 256
+#: XML elements and attributes in a ``.simscene.xml`` (the course's XML scene: 2,267); each
+#: costs about 85 bytes in the parsed tree, so a file of empty elements cannot fill memory
+MAX_XML_ITEMS = 1_000_000
 #: compound shapes inside compound shapes (CoppeliaSim's own scenes: 2 or 3)
 MAX_COMPOUND_DEPTH = 64
 

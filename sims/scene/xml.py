@@ -32,7 +32,13 @@ from pathlib import Path
 from xml.parsers import expat as pyexpat
 
 from sims.scene.errors import SceneError
-from sims.scene.limits import MAX_DEPTH, LimitError, MeshBudget, check_object_count
+from sims.scene.limits import (
+    MAX_DEPTH,
+    MAX_XML_ITEMS,
+    LimitError,
+    MeshBudget,
+    check_object_count,
+)
 from sims.scene.model import (
     CameraData,
     DummyData,
@@ -96,12 +102,25 @@ def parse(data: bytes, source: str) -> ET.Element:
     expat.EntityDeclHandler = refuse
     expat.UnparsedEntityDeclHandler = refuse
     expat.ExternalEntityRefHandler = refuse
-    expat.StartElementHandler = builder.start
+    items = [0]
+
+    def start(tag: str, attrs: dict[str, str]) -> object:
+        items[0] += 1 + len(attrs)
+        if items[0] > MAX_XML_ITEMS:
+            raise LimitError(
+                f"more than {MAX_XML_ITEMS:,} XML elements and attributes (the course's XML "
+                "scene has 2,267)"
+            )
+        return builder.start(tag, attrs)
+
+    expat.StartElementHandler = start
     expat.EndElementHandler = builder.end
     expat.CharacterDataHandler = builder.data
     try:
         expat.Parse(data, True)
         return builder.close()
+    except LimitError as exc:
+        raise SceneError(source, f"line {expat.CurrentLineNumber}", str(exc)) from None
     except _Refuse:
         line = expat.CurrentLineNumber
         raise SceneError(
