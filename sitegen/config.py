@@ -23,6 +23,8 @@ if TYPE_CHECKING:
 CONFIG_NAME = "sitegen.yml"
 LANGUAGES = ("zh-TW", "en")
 _SIZE = re.compile(r"^(\d{2,4})x(\d{2,4})$")
+MAX_TIMEOUT = 7 * 86400.0  # a week: longer limits overflow the clocks that wait on them
+TIMEOUT_RULE = f"must be a positive number of seconds, at most {MAX_TIMEOUT:g} (a week)"
 
 
 @dataclass(frozen=True)
@@ -311,8 +313,8 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
     kwargs: dict[str, Any] = {
         k: v[k] for k in ("section", "title", "fps", "jobs", "timeout") if k in v
     }
-    if "timeout" in v and not 0 < v["timeout"] < float("inf"):
-        ck.fail(nodes["timeout"], "sims.timeout", "must be a positive number of seconds")
+    if "timeout" in v and not 0 < v["timeout"] <= MAX_TIMEOUT:
+        ck.fail(nodes["timeout"], "sims.timeout", TIMEOUT_RULE)
         del kwargs["timeout"]
     if "size" in v:
         m = _SIZE.match(v["size"])
@@ -341,8 +343,8 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 if "speed" in cv and not 1 <= cv["speed"] <= 100:
                     ck.fail(item, f"{where}.speed", "must be a number from 1 to 100")
                     continue
-                if "timeout" in cv and not 0 < cv["timeout"] < float("inf"):
-                    ck.fail(item, f"{where}.timeout", "must be a positive number of seconds")
+                if "timeout" in cv and not 0 < cv["timeout"] <= MAX_TIMEOUT:
+                    ck.fail(item, f"{where}.timeout", TIMEOUT_RULE)
                     continue
                 if cv.get("camera", "follow") not in ("follow", "overview"):
                     ck.fail(item, f"{where}.camera", "must be follow or overview")
