@@ -15,6 +15,7 @@ import hashlib
 import json
 from pathlib import Path, PurePosixPath
 
+from located.paths import public_paths
 from sitegen.config import ClipConfig, Config
 from sitegen.errors import Diagnostics
 from sitegen.i18n import strings as interface_strings
@@ -158,10 +159,9 @@ class SimsIntegration(Integration):
                     if r.stale and r.files
                     else " (a placeholder is shown)"
                 )
-                diags.warning(
-                    config_file, None, f"sims.clips[{r.name}]", f"{r.error}{shown_instead}"
-                )
-                self.failed[r.name] = r.error or "failed"
+                error = public_paths(r.error or "failed", self.config.root)  # published
+                diags.warning(config_file, None, f"sims.clips[{r.name}]", f"{error}{shown_instead}")
+                self.failed[r.name] = error
             if r.files:
                 self.results[r.name] = r
                 for key, path in sorted(r.files.items()):
