@@ -90,6 +90,15 @@ class SlidesConfig:
 
 
 @dataclass(frozen=True)
+class MarkdownConfig:
+    """``markdown:``: ``raw_html: keep`` (default: HTML written in a page reaches the site as
+    written) or ``strip`` (only what Markdown itself writes, docs/security.md;
+    sitegen/html_clean.py)."""
+
+    raw_html: str = "keep"
+
+
+@dataclass(frozen=True)
 class Config:
     """Everything a build needs to know that is not content."""
 
@@ -107,6 +116,7 @@ class Config:
     sims: SimsConfig | None = None
     blog: BlogConfig = BlogConfig()
     slides: SlidesConfig = SlidesConfig()
+    markdown: MarkdownConfig = MarkdownConfig()
     source_file: Path | None = None
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
@@ -146,7 +156,9 @@ _TOP = {
     "sims": "map",
     "blog": "map",
     "slides": "map",
+    "markdown": "map",
 }
+_MARKDOWN = {"raw_html": "str"}
 _BLOG = {"dir": "str", "title": "str", "page_size": "int"}
 _SLIDES = {"dir": "str"}
 _ROSTER = {
@@ -257,6 +269,13 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     if "slides" in top:
         v = _values(ck, ck.keys(top["slides"], "slides", _SLIDES), _SLIDES, "slides.")
         kwargs["slides"] = SlidesConfig(**_folder(ck, top["slides"], v, "slides"))
+    if "markdown" in top:
+        nodes = ck.keys(top["markdown"], "markdown", _MARKDOWN)
+        v = _values(ck, nodes, _MARKDOWN, "markdown.")
+        if "raw_html" in v and v["raw_html"] not in ("keep", "strip"):
+            ck.fail(nodes["raw_html"], "markdown.raw_html", "must be keep or strip")
+            del v["raw_html"]
+        kwargs["markdown"] = MarkdownConfig(**v)
     if ck.problems:
         raise BuildError("invalid sitegen.yml", ck.problems)
     raw = to_python(node) or {}

@@ -185,7 +185,7 @@ class SlidesIntegration(Integration):
             if kind == "down":
                 return '<!--slide:down--><hr class="slide-break slide-down">'
             if kind == "notes":
-                extra = _inline(rest) if rest.strip() else ""
+                extra = _inline(rest, self.config.markdown.raw_html) if rest.strip() else ""
                 label = f'<p class="slide-notes-label">{escape(labels["notes"])}</p>'
                 return f"<!--slide:notes-->{label}{extra}"
             if kind == "deck":
@@ -230,7 +230,12 @@ class SlidesIntegration(Integration):
         return out
 
 
-def _inline(text: str) -> str:
+def _inline(text: str, raw_html: str = "keep") -> str:
     import markdown
 
-    return markdown.markdown(text, output_format="html")
+    html = markdown.markdown(text, output_format="html")
+    if raw_html == "strip":  # as the page's own Markdown (sitegen/html_clean.py)
+        from sitegen.html_clean import strip_raw_html
+
+        html = strip_raw_html(html)
+    return html
