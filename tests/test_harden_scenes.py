@@ -295,3 +295,30 @@ def test_an_xml_file_of_empty_elements_is_refused_within_bounded_memory():
     assert isinstance(err, SceneError) and err.obj == "line 1"
     assert err.message.startswith(f"more than {limits.MAX_XML_ITEMS:,} XML elements")
     assert peak < 128, peak  # a 32 MB file of them held 680 MB
+
+
+def test_object_count_and_compound_nesting_have_bounds(tmp_path, monkeypatch):
+    """The bounds themselves (lowered here, so that the files stay small)."""
+    monkeypatch.setattr(limits, "MAX_OBJECTS", 50)
+    many = b"".join(scene_object("DMY", h, f"d{h}", []) for h in range(1, 52))
+    (tmp_path / "many.ttt").write_bytes(ttt_file(many))
+    with pytest.raises(SceneError, match="more than 50 objects in one scene"):
+        load_scene(tmp_path / "many.ttt")
+    xml = "".join(f"<dummy><common><name>d{i}</name></common></dummy>" for i in range(51))
+    (tmp_path / "many.simscene.xml").write_text(
+        f"<CoppeliaSim><filetype>simpleScene</filetype>{xml}</CoppeliaSim>", encoding="utf-8"
+    )
+    with pytest.raises(SceneError, match="more than 50 objects in one scene"):
+        load_scene(tmp_path / "many.simscene.xml")
+    from sims.scene import ttt_shapes, xml_shapes
+
+    monkeypatch.setattr(xml_shapes, "MAX_COMPOUND_DEPTH", 3)
+    nested = "<compound>" * 5 + "<primitive><type>cuboid</type></primitive>" + "</compound>" * 5
+    (tmp_path / "deep.simscene.xml").write_text(
+        "<CoppeliaSim><filetype>simpleScene</filetype><shape><common><name>s</name></common>"
+        f"{nested}</shape></CoppeliaSim>",
+        encoding="utf-8",
+    )
+    with pytest.raises(SceneError, match="compound shapes nested more than 3 deep"):
+        load_scene(tmp_path / "deep.simscene.xml")
+    assert ttt_shapes.MAX_COMPOUND_DEPTH == limits.MAX_COMPOUND_DEPTH == 64
