@@ -173,8 +173,7 @@ def test_negative_zero_or_huge_timeout_is_refused(tmp_path):
         proc = _cli("run", str(script), "--scene", "cart", "--timeout", value, timeout=60)
         assert proc.returncode == 2 and "ran" not in proc.stdout
         assert (
-            "timeout must be a positive number of seconds, at most 604800 (a week), "
-            f"got {value}"
+            f"timeout must be a positive number of seconds, at most 604800 (a week), got {value}"
         ) in proc.stderr
         assert "Traceback" not in proc.stderr
 
