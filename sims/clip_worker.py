@@ -315,10 +315,20 @@ def range_starts(total: int, size: int) -> list[int]:
 RANGE_FRAMES = 60  # frames per render job: ~1 s of EGL work, small enough to share out
 
 
+def simulate_fenced(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
+    """``simulate`` in a forked child with no network and no socket outside it (the clip's
+    scripts, Python and Lua, run there; sims/remote_api/isolate.py), killed past its limit."""
+    from sims.remote_api.isolate import KILL_GRACE, call_isolated
+
+    limit = job["time_limit"] + KILL_GRACE
+    return call_isolated(lambda: simulate(job, progress), limit, _label(job["spec"]))
+
+
 def render_job(job: dict[str, Any]) -> tuple[dict[str, Any], str | None]:
-    """All three phases in this process: the clip's meta (as the workers would write it) and
-    why EGL fell back (None: it did not; see ``sims.render.fallback_note``)."""
-    meta = simulate(job)
+    """All three phases in this process (the simulation in a fenced child): the clip's meta
+    (as the workers would write it) and why EGL fell back (None: it did not; see
+    ``sims.render.fallback_note``)."""
+    meta = simulate_fenced(job)
     if "files" in meta:  # no video: simulate finished the clip
         return meta, None
     starts = range_starts(meta["frames"], RANGE_FRAMES)
@@ -344,7 +354,7 @@ def run_phase(job: dict[str, Any], progress: Progress, worlds: WorldCache) -> di
     phase = job["phase"]
     if phase == "simulate":
         worlds.close()  # a World per process with EGL: free it before the next clip's
-        return simulate(job, progress)
+        return simulate_fenced(job, progress)
     if phase == "render":
         return render_range(job, progress, worlds)
     if phase == "encode":

@@ -184,7 +184,7 @@ def _build(opts: BuildOptions, paths: tuple[Config, Path, Path, Path]) -> BuildR
     store = FragmentStore(inp.cache_dir / "fragments.sqlite")
     if opts.clean:
         store.clear()
-    md = render_markdown(site, frag, store)
+    md = render_markdown(site, frag, store, raw_html=inp.config.markdown.raw_html)
     report.markdown_rendered = md.converted
     assets = {a.rel for a in inp.tree.assets}
     targets = LinkTargets.build(site, assets, {url: set(s[0]) for url, s in md.summaries.items()})

@@ -23,6 +23,8 @@ if TYPE_CHECKING:
 CONFIG_NAME = "sitegen.yml"
 LANGUAGES = ("zh-TW", "en")
 _SIZE = re.compile(r"^(\d{2,4})x(\d{2,4})$")
+MAX_TIMEOUT = 7 * 86400.0  # a week: longer limits overflow the clocks that wait on them
+TIMEOUT_RULE = f"must be a positive number of seconds, at most {MAX_TIMEOUT:g} (a week)"
 
 
 @dataclass(frozen=True)
@@ -95,6 +97,15 @@ class SlidesConfig:
 
 
 @dataclass(frozen=True)
+class MarkdownConfig:
+    """``markdown:``: ``raw_html: keep`` (default: HTML written in a page reaches the site as
+    written) or ``strip`` (only what Markdown itself writes, docs/security.md;
+    sitegen/html_clean.py)."""
+
+    raw_html: str = "keep"
+
+
+@dataclass(frozen=True)
 class Config:
     """Everything a build needs to know that is not content."""
 
@@ -112,6 +123,7 @@ class Config:
     sims: SimsConfig | None = None
     blog: BlogConfig = BlogConfig()
     slides: SlidesConfig = SlidesConfig()
+    markdown: MarkdownConfig = MarkdownConfig()
     source_file: Path | None = None
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
@@ -151,7 +163,9 @@ _TOP = {
     "sims": "map",
     "blog": "map",
     "slides": "map",
+    "markdown": "map",
 }
+_MARKDOWN = {"raw_html": "str"}
 _BLOG = {"dir": "str", "title": "str", "page_size": "int"}
 _SLIDES = {"dir": "str"}
 _ROSTER = {
@@ -283,6 +297,13 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
     if "slides" in top:
         v = _values(ck, ck.keys(top["slides"], "slides", _SLIDES), _SLIDES, "slides.")
         kwargs["slides"] = SlidesConfig(**_folder(ck, top["slides"], v, "slides"))
+    if "markdown" in top:
+        nodes = ck.keys(top["markdown"], "markdown", _MARKDOWN)
+        v = _values(ck, nodes, _MARKDOWN, "markdown.")
+        if "raw_html" in v and v["raw_html"] not in ("keep", "strip"):
+            ck.fail(nodes["raw_html"], "markdown.raw_html", "must be keep or strip")
+            del v["raw_html"]
+        kwargs["markdown"] = MarkdownConfig(**v)
     if ck.problems:
         raise BuildError("invalid sitegen.yml", ck.problems)
     raw = to_python(node) or {}
@@ -342,8 +363,8 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
     kwargs: dict[str, Any] = {
         k: v[k] for k in ("section", "title", "fps", "jobs", "timeout") if k in v
     }
-    if "timeout" in v and not 0 < v["timeout"] < float("inf"):
-        ck.fail(nodes["timeout"], "sims.timeout", "must be a positive number of seconds")
+    if "timeout" in v and not 0 < v["timeout"] <= MAX_TIMEOUT:
+        ck.fail(nodes["timeout"], "sims.timeout", TIMEOUT_RULE)
         del kwargs["timeout"]
     if "size" in v:
         m = _SIZE.match(v["size"])
@@ -387,8 +408,8 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 if "speed" in cv and not 1 <= cv["speed"] <= 100:
                     ck.fail(item, f"{where}.speed", "must be a number from 1 to 100")
                     continue
-                if "timeout" in cv and not 0 < cv["timeout"] < float("inf"):
-                    ck.fail(item, f"{where}.timeout", "must be a positive number of seconds")
+                if "timeout" in cv and not 0 < cv["timeout"] <= MAX_TIMEOUT:
+                    ck.fail(item, f"{where}.timeout", TIMEOUT_RULE)
                     continue
                 if cv.get("camera", "follow") not in ("follow", "overview"):
                     ck.fail(item, f"{where}.camera", "must be follow or overview")

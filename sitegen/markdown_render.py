@@ -195,13 +195,20 @@ class MarkdownRenderer:
         # processes forked after this inherit it (sitegen.markdown_stage)
         self.render("sitegen")
 
-    def render(self, text: str, strip_first_heading: bool = False) -> Rendered:
+    def render(
+        self, text: str, strip_first_heading: bool = False, strip_html: bool = False
+    ) -> Rendered:
+        """``strip_html``: the fragment cleaned of raw HTML (sitegen/html_clean.py)."""
         if strip_first_heading:
             text = _drop_first_heading(text)
         self._found.clear()
         self.md.reset()
         BLOCKS.take_used()
         body = self.md.convert(text)
+        if strip_html:
+            from sitegen.html_clean import strip_raw_html
+
+            body = strip_raw_html(body)
         tokens = getattr(self.md, "toc_tokens", [])
         toc = _toc(tokens)
         ids = re.findall(r'\sid="([^"]+)"', body)

@@ -37,9 +37,13 @@ class MarkdownStage:
     converted: int
 
 
-def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> MarkdownStage:
+def render_markdown(
+    site: Site, frag: Fragments, store: FragmentStore, raw_html: str = "keep"
+) -> MarkdownStage:
     """Convert what the cache does not hold; ``frag.markdown`` is left holding exactly the
-    summaries of the sources the site uses now."""
+    summaries of the sources the site uses now. ``raw_html="strip"`` cleans each fragment
+    (sitegen/html_clean.py; part of the cache key)."""
+    clean = raw_html == "strip"
     from sitegen.highlight_cache import BLOCKS
     from sitegen.markdown_render import Rendered, plain_text, render_key
 
@@ -50,6 +54,10 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
     misses: dict[str, tuple[str, str, bool]] = {}  # key -> (key, text, strip first heading)
     stored = store.keys() if frag.markdown else set()
     code = render_key()
+    if clean:  # the cleaning code is part of the key too
+        from located.code_keys import code_key
+
+        code += code_key("sitegen.html_clean")
     for node in site.order:
         src = node.source
         if src is None:  # a folder without index.md: the template lists its children
@@ -66,13 +74,16 @@ def render_markdown(site: Site, frag: Fragments, store: FragmentStore) -> Markdo
             continue
         # the text's own key where the scan made one: an unchanged page's text is not read
         text = src.text_key or text_key(src.text)
-        key = hashlib.sha256(f"{code}\0{node.strip_first_heading}\0{text}".encode()).hexdigest()
+        mode = "\0strip-html" if clean else ""
+        key = hashlib.sha256(
+            f"{code}{mode}\0{node.strip_first_heading}\0{text}".encode()
+        ).hexdigest()
         sources[node.url] = from_store[node.url] = key
         if key not in frag.markdown or key not in stored:
             misses.setdefault(key, (key, src.text, node.strip_first_heading))
 
     def convert(tasks) -> list:
-        made = _convert([(text, strip) for _key, text, strip in tasks])
+        made = _convert([(text, strip) for _key, text, strip in tasks], clean)
         pairs = ((key, r) for (key, _t, _s), r in zip(tasks, made, strict=True))
         store.put_many(pairs, BLOCKS.take_new())
         # the table of contents pickled: a partial build loads every page's summary but
@@ -134,14 +145,15 @@ def search_records(nodes: list[Node], renders: Renders, batch: int = 256) -> Ite
             yield record_json(n.title, n.url, [a.title for a in n.ancestors()], parts)
 
 
-def _convert(tasks) -> list:
-    """Convert (Markdown, strip first heading) pairs; one renderer per process, reset per page."""
+def _convert(tasks, clean: bool = False) -> list:
+    """Convert (Markdown, strip first heading) pairs; one renderer per process, reset per page;
+    ``clean``: raw HTML stripped (sitegen/html_clean.py)."""
     global _RENDERER
     from sitegen.markdown_render import MarkdownRenderer
 
     if _RENDERER is None:
         _RENDERER = MarkdownRenderer()
-    return [_RENDERER.render(text, strip) for text, strip in tasks]
+    return [_RENDERER.render(text, strip, strip_html=clean) for text, strip in tasks]
 
 
 _RENDERER: Any = None

@@ -11,6 +11,13 @@ A missing page is answered with the site's own 404 page (status 404), as GitHub 
 When the build supports it (``BuildOptions.render_clips``), the first build publishes the site
 with the clips already cached and the server starts at once; the clips are then rendered in
 the background and the open page reloads when they are in.
+
+Files answer single-range requests (``Range: bytes=A-B``: 206 with ``Content-Range``, 416 when
+the range starts past the end; ``Accept-Ranges: bytes``), as Safari needs to play a video;
+several ranges in one request get the whole file (200), which HTTP allows. The server keeps a
+listen queue of ``BACKLOG`` connections and drops a client silent for ``REQUEST_TIMEOUT``
+seconds, so many clients at once, or slow ones, do not lock others out. A request path that
+cannot be a file name (a NUL byte) is a 404, like any other missing file.
 """
 
 from __future__ import annotations
@@ -19,8 +26,10 @@ import argparse
 import dataclasses
 import errno
 import functools
+import io
 import ipaddress
 import os
+import re
 import sys
 import threading
 import time
@@ -82,8 +91,14 @@ class _State:
         self.problems: set[str] = set()  # the last build's diagnostics, as printed
 
 
+BACKLOG = 128  # connections waiting to be accepted (socketserver's default is 5)
+REQUEST_TIMEOUT = 30.0  # seconds a client may stay silent in the middle of a request
+RANGE = re.compile(r"^bytes=(\d*)-(\d*)$")
+
+
 class _Server(ThreadingHTTPServer):
     daemon_threads = True
+    request_queue_size = BACKLOG
 
 
 def make_server(host: str, port: int, directory: Path, state: _State) -> ThreadingHTTPServer:
@@ -114,18 +129,60 @@ def make_server(host: str, port: int, directory: Path, state: _State) -> Threadi
 
 class _Handler(SimpleHTTPRequestHandler):
     state: _State
+    timeout = REQUEST_TIMEOUT
 
     def log_message(self, format: str, *args) -> None:  # noqa: A002 (http.server's name)
         pass
 
     def translate_path(self, path: str) -> str:
-        """Nothing is served through a symlink that leads out of the site: 404 instead."""
+        """Nothing is served through a symlink that leads out of the site, nor for a path no
+        file can have (a NUL byte): 404 instead."""
+        nowhere = os.path.join(os.path.realpath(self.directory), "__sitegen__", "outside-the-site")
         fs_path = super().translate_path(path)
+        if "\0" in fs_path:
+            return nowhere  # never exists
         root = os.path.realpath(self.directory)
         real = os.path.realpath(fs_path)
         if real != root and not real.startswith(root.rstrip(os.sep) + os.sep):
-            return os.path.join(root, "__sitegen__", "outside-the-site")  # never exists
+            return nowhere
         return fs_path
+
+    def send_head(self):  # noqa: ANN201 (http.server's name and contract)
+        """As http.server's, plus single byte ranges for regular files."""
+        path = self.translate_path(self.path)
+        if os.path.isdir(path) or not os.path.isfile(path):
+            return super().send_head()
+        try:
+            fh = open(path, "rb")  # noqa: SIM115 (the caller copies and closes it)
+        except OSError:
+            self.send_error(HTTPStatus.NOT_FOUND, "File not found")
+            return None
+        try:
+            info = os.fstat(fh.fileno())
+            size = info.st_size
+            span = _byte_range(self.headers.get("Range"), size)
+            if span == "unsatisfiable":
+                fh.close()
+                self.send_response(HTTPStatus.REQUESTED_RANGE_NOT_SATISFIABLE)
+                self.send_header("Content-Range", f"bytes */{size}")
+                self.send_header("Accept-Ranges", "bytes")
+                self.send_header("Content-Length", "0")
+                self.end_headers()
+                return None
+            start, stop = span if span else (0, size)
+            self.send_response(HTTPStatus.PARTIAL_CONTENT if span else HTTPStatus.OK)
+            self.send_header("Content-Type", self.guess_type(path))
+            self.send_header("Content-Length", str(stop - start))
+            if span:
+                self.send_header("Content-Range", f"bytes {start}-{stop - 1}/{size}")
+            self.send_header("Accept-Ranges", "bytes")
+            self.send_header("Last-Modified", self.date_time_string(int(info.st_mtime)))
+            self.end_headers()
+            fh.seek(start)
+            return _Limited(fh, stop - start)
+        except Exception:
+            fh.close()
+            raise
 
     def do_GET(self) -> None:  # noqa: N802 (http.server's name)
         if self.path.startswith("/__sitegen__/version"):
@@ -161,6 +218,44 @@ class _Handler(SimpleHTTPRequestHandler):
         self.send_header("Cache-Control", "no-store")
         self.end_headers()
         self.wfile.write(body)
+
+
+def _byte_range(header: str | None, size: int) -> tuple[int, int] | str | None:
+    """The ``[start, stop)`` of a single-range ``Range`` header; None to send the whole file
+    (no header, several ranges, a unit or form not understood, which HTTP lets a server
+    ignore); "unsatisfiable" when the range starts past the end (or asks for no bytes)."""
+    m = RANGE.match(header.strip()) if header else None
+    if not m or m.group(1) == m.group(2) == "":
+        return None
+    first, last = m.group(1), m.group(2)
+    if first == "":  # the last N bytes
+        n = int(last)
+        return (max(0, size - n), size) if n > 0 and size > 0 else "unsatisfiable"
+    start = int(first)
+    stop = size if last == "" else min(int(last) + 1, size)
+    if last != "" and int(last) < start:
+        return None  # not a valid range: ignored
+    return (start, stop) if start < size else "unsatisfiable"
+
+
+class _Limited(io.RawIOBase):
+    """A file read from where it is for at most ``left`` bytes (a range's body)."""
+
+    def __init__(self, fh, left: int):
+        self.fh, self.left = fh, left
+
+    def readable(self) -> bool:
+        return True
+
+    def read(self, n: int = -1) -> bytes:
+        n = self.left if n is None or n < 0 else min(n, self.left)
+        data = self.fh.read(n) if n > 0 else b""
+        self.left -= len(data)
+        return data
+
+    def close(self) -> None:
+        self.fh.close()
+        super().close()
 
 
 def _snapshot(root: Path, skip: set[Path]) -> tuple:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path, PurePosixPath
 
+from located.paths import public_paths
 from sitegen import clip_view as words
 from sitegen.config import ClipConfig, Config
 from sitegen.errors import Diagnostics
@@ -173,10 +174,9 @@ class SimsIntegration(Integration):
                     if r.stale and r.files
                     else " (a placeholder is shown)"
                 )
-                diags.warning(
-                    config_file, None, f"sims.clips[{r.name}]", f"{r.error}{shown_instead}"
-                )
-                self.failed[r.name] = r.error or "failed"
+                error = public_paths(r.error or "failed", self.config.root)  # published
+                diags.warning(config_file, None, f"sims.clips[{r.name}]", f"{error}{shown_instead}")
+                self.failed[r.name] = error
             if r.files:
                 self.results[r.name] = r
                 for key, path in sorted(r.files.items()):

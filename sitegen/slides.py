@@ -209,7 +209,7 @@ class SlidesIntegration(Integration):
             if kind == "end":
                 return close(node)
             if kind == "notes":
-                extra = _inline(rest) if rest.strip() else ""
+                extra = _inline(rest, self.config.markdown.raw_html) if rest.strip() else ""
                 if node.url in notes_open:
                     return extra
                 notes_open.add(node.url)
@@ -260,7 +260,12 @@ class SlidesIntegration(Integration):
         return out
 
 
-def _inline(text: str) -> str:
+def _inline(text: str, raw_html: str = "keep") -> str:
     import markdown
 
-    return markdown.markdown(text, output_format="html")
+    html = markdown.markdown(text, output_format="html")
+    if raw_html == "strip":  # as the page's own Markdown (sitegen/html_clean.py)
+        from sitegen.html_clean import strip_raw_html
+
+        html = strip_raw_html(html)
+    return html

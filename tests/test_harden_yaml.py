@@ -119,15 +119,16 @@ def test_wrong_values_are_quoted_short_in_messages(tmp_path):
     assert len(line) < 200
 
 
-def test_a_clip_time_limit_must_be_positive(tmp_path):
+def test_a_clip_time_limit_must_be_positive_and_at_most_a_week(tmp_path):
     from sitegen.config import parse_config
     from sitegen.errors import BuildError
 
-    with pytest.raises(BuildError) as info:
-        parse_config("sims:\n  timeout: -1\n", tmp_path)
-    assert [(d.line, d.field, d.message) for d in info.value.diagnostics] == [
-        (2, "sims.timeout", "must be a positive number of seconds")
-    ]
+    for value in ("-1", "1.0e+308"):  # 1e308 overflowed the clocks waiting on it
+        with pytest.raises(BuildError) as info:
+            parse_config(f"sims:\n  timeout: {value}\n", tmp_path)
+        assert [(d.line, d.field, d.message) for d in info.value.diagnostics] == [
+            (2, "sims.timeout", "must be a positive number of seconds, at most 604800 (a week)")
+        ]
 
 
 def test_front_matter_duplicate_keys_are_errors_at_their_lines(tmp_path):

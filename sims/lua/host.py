@@ -22,7 +22,6 @@ a function the emulation lacks is recorded once per script line (``missing``).
 
 from __future__ import annotations
 
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,7 +29,7 @@ from typing import Any
 
 from .binding import Binder, LuaCaller
 from .constants import constants
-from .runtime import LuaScriptError, LuaState
+from .runtime import LuaScriptError, LuaState, run_tmp_dir
 
 
 @dataclass(frozen=True)
@@ -107,7 +106,7 @@ class ScriptHost:
         self.started = False
         self.passes = 0
         self._steps_seen = 0
-        self._tmp = tempfile.TemporaryDirectory(prefix="sitegen-lua-")
+        self._tmp = run_tmp_dir()  # stale ones of killed runs removed first (runtime.py)
         self.scripts = self._collect(source, customization) if enabled else []
         self._remove_hook = world.add_step_hook(self.on_step)
 

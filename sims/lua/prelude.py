@@ -18,6 +18,8 @@ local sfind, ssub, sformat = string.find, string.sub, string.format
 local io_open, os_remove, os_rename = io.open, os.remove, os.rename
 local table_unpack = table.unpack
 local RT = {}
+local real_pcall, real_xpcall, real_setmetatable = pcall, xpcall, setmetatable
+local sgsub, srep, slen = string.gsub, string.rep, string.len
 
 -- 5.1 names the V-REP 3.x scripts use (Lua 5.4 runs every scene; see docs/lua.md)
 unpack = unpack or table_unpack
@@ -50,8 +52,37 @@ os.rename = function(a, b)
   return nil, "sandbox: outside the temporary folder"
 end
 io.popen = refuse("io.popen")
+-- what a run writes counts against its temporary folder's quota (PY.take_disk, runtime.py)
+local function quota_write(f, proxy)
+    return function(_, ...)
+        local n = 0
+        for i = 1, select("#", ...) do
+            local a = select(i, ...)
+            n = n + (type(a) == "string" and #a or #tostring(a))
+        end
+        if not PY.take_disk(n) then
+            return nil, "sandbox: the run's temporary folder is full (quota)"
+        end
+        local ok, err = f:write(...)
+        if not ok then return nil, err end
+        return proxy
+    end
+end
+local function counted(f)
+    local proxy = {}
+    return real_setmetatable(proxy, {__index = function(_, k)
+        if k == "write" then return quota_write(f, proxy) end
+        local v = f[k]
+        if type(v) == "function" then return function(_, ...) return v(f, ...) end end
+        return v
+    end, __name = "FILE*", __close = function() f:close() end})
+end
 io.open = function(path, mode)
-    if inside_tmp(path) then return io_open(path, mode) end
+    if inside_tmp(path) then
+        local f, err = io_open(path, mode)
+        if f and type(mode) == "string" and sfind(mode, "[wa+]") then return counted(f) end
+        return f, err
+    end
     return nil, tostring(path) .. ": sandbox: files live in the run's temporary folder only"
 end
 io.lines = function(path, ...)
@@ -105,7 +136,20 @@ if package then
     package.searchers = {}
     package.loaded = {}
 end
-debug = {traceback = traceback, getinfo = getinfo}
+-- debug.getinfo without functions ("f"): a script must not reach the runner's own functions
+-- (calling one would take its hook away); levels count from the caller as the real one does
+debug = {traceback = traceback, getinfo = function(what, opts, ...)
+    if type(opts) == "string" then opts = sgsub(opts, "[fL]", "") end
+    if type(what) == "number" then
+        if what < 0 then return nil end
+        what = what + 1
+    elseif type(what) ~= "function" then
+        return nil
+    end
+    local info = getinfo(what, opts or "nSlu")
+    if info and info.source == "=prelude" then return nil end
+    return info
+end}
 collectgarbage = function(opt) if opt == "count" then return 0 end return 0 end
 
 -- budget: instructions run without returning or yielding, in virtual steps' worth ----------
@@ -117,21 +161,96 @@ local mmax, mfloor = math.max, math.floor
 function RT.switch_timing(ms)
     soft = mmax(HOOK_EVERY, mfloor(PY.step_budget * mmax(ms, 1) / 2))
 end
+local STOPPED = nil  -- the budget's message once it ran out: nothing may catch it
 RT.switch_due = false
 local function hook()
     count = count + HOOK_EVERY
     if count >= soft then RT.switch_due = true end
+    if STOPPED then  -- raised again in the script's code, never in the runner's own
+        local info = getinfo(2, "S")
+        if info and info.source ~= "=prelude" then error(STOPPED, 0) end
+        return
+    end
     if count >= hard then
         local info = getinfo(2, "Sl") or {}
-        error(sformat("%s:%s: stopped: ran %d virtual steps' worth of Lua instructions (%d) " ..
-            "without returning or yielding (an endless loop?)", tostring(info.short_src),
-            tostring(info.currentline), PY.max_steps, count), 0)
+        STOPPED = sformat("%s:%s: stopped: ran %d virtual steps' worth of Lua instructions " ..
+            "(%d) without returning or yielding (an endless loop?)", tostring(info.short_src),
+            tostring(info.currentline), PY.max_steps, count)
+        error(STOPPED, 0)
     end
 end
 local function arm(co)
     count = 0
+    STOPPED = nil
     RT.switch_due = false
     if co then sethook(co, hook, "", HOOK_EVERY) else sethook(hook, "", HOOK_EVERY) end
+end
+
+-- the budget cannot be escaped (issue 33) ----------------------------------------------------
+-- a hook belongs to one coroutine: every coroutine a script makes gets it
+local function hooked(fn)
+    local co = co_create(fn)
+    sethook(co, hook, "", HOOK_EVERY)
+    return co
+end
+-- once the budget ran out, catching the error does not help: it is raised again
+local function again(ok, ...)
+    if STOPPED then error(STOPPED, 0) end
+    return ok, ...
+end
+coroutine.create = hooked
+coroutine.resume = function(co, ...) return again(co_resume(co, ...)) end
+coroutine.wrap = function(fn)
+    local co = hooked(fn)
+    return function(...)
+        local r = pack(again(co_resume(co, ...)))
+        if not r[1] then error(r[2], type(r[2]) == "string" and 2 or 0) end
+        return table_unpack(r, 2, r.n)
+    end
+end
+_G.pcall = function(...) return again(real_pcall(...)) end  -- the global: "pcall" is a local
+-- a message handler runs under the same budget, and not again once it ran out
+_G.xpcall = function(fn, handler, ...)
+    return again(real_xpcall(fn, function(e)
+        if STOPPED then return STOPPED end
+        return handler(e)
+    end, ...))
+end
+-- finalizers run with hooks off (Lua stops them during collection): not run, and reported
+setmetatable = function(t, mt)
+    if type(mt) == "table" and rawget(mt, "__gc") ~= nil then
+        rawset(mt, "__gc", nil)
+        local info = getinfo(2, "Sl") or {}
+        PY.missing("__gc finalizer (not run in scene scripts)", info.currentline or -1)
+    end
+    return real_setmetatable(t, mt)
+end
+-- pattern matching runs in C, out of the hook's reach: a pattern whose backtracking could
+-- take more than PATTERN_STEPS steps on its subject is refused (quantifiers nest: each
+-- *, + or - can try every length of the subject)
+local PATTERN_STEPS = 1e10
+local function pattern_cost(subject, pattern, plain)
+    if plain or type(pattern) ~= "string" or type(subject) ~= "string" then return 0 end
+    local p = sgsub(sgsub(pattern, "%%.", "x"), "%[.-%]", "x")  -- escapes and sets: one item
+    local _, k = sgsub(p, "[%*%+%-]", "")
+    local n = slen(subject) + 1
+    local starts = ssub(pattern, 1, 1) == "^" and 1 or n
+    return starts * n ^ k
+end
+local function guarded(real, name)
+    return function(s, pattern, a, b)
+        if type(s) == "number" then s = tostring(s) end
+        local cost = pattern_cost(s, pattern, name == "find" and b)
+        if cost > PATTERN_STEPS then
+            error(sformat("string.%s: pattern %q on %d characters could take %.0e steps of " ..
+                "backtracking (at most %.0e in a scene script)", name, tostring(pattern),
+                slen(s), cost, PATTERN_STEPS), 2)
+        end
+        return real(s, pattern, a, b)
+    end
+end
+for _, name in ipairs({"find", "match", "gmatch", "gsub"}) do
+    string[name] = guarded(string[name], name)
 end
 
 local function pack(...) return {n = select("#", ...), ...} end

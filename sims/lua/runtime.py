@@ -12,6 +12,12 @@ Lua strings arrive as bytes (a packed buffer stays a buffer) and ``to_lua`` enco
 
 from __future__ import annotations
 
+import contextlib
+import os
+import shutil
+import tempfile
+import time
+import weakref
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -25,7 +31,46 @@ from .prelude import PRELUDE
 #: returning or yielding is stopped as an endless loop, naming its line.
 STEP_BUDGET = 200_000
 MAX_STEPS = 50
-MAX_MEMORY = 256 << 20  # bytes per script state
+MAX_MEMORY = 256 << 20  # bytes for all the script states of one run together (issue 33)
+MAX_DISK = 64 << 20  # bytes the scripts of one run may write to its temporary folder
+TMP_PREFIX = "sitegen-lua-"
+
+
+class _RunMemory:
+    """The states of one run (they share its temporary folder) and the memory they hold: each
+    state may grow only into what the others leave of ``MAX_MEMORY`` (16 scripts of a scene
+    took 16 times 256 MiB when the limit was per state)."""
+
+    def __init__(self) -> None:
+        self.states: list[Any] = []
+        self.written = 0  # bytes the run's scripts wrote to its temporary folder
+
+    def take_disk(self, n: int) -> bool:
+        """Count ``n`` more bytes written; False (not counted) past ``MAX_DISK``."""
+        if self.written + n > MAX_DISK:
+            return False
+        self.written += n
+        return True
+
+    def limit_for(self, state: Any) -> int:
+        others = 0
+        for ref in self.states:
+            other = ref()
+            if other is not None and other is not state:
+                others += other.lua.get_memory_used() or 0
+        return max(1 << 20, MAX_MEMORY - others)
+
+    def alive(self) -> bool:
+        return any(ref() is not None for ref in self.states)
+
+
+_RUNS: dict[str, _RunMemory] = {}
+
+
+def _run_memory(tmp_dir: str) -> _RunMemory:
+    for key in [k for k, run in _RUNS.items() if not run.alive()]:
+        del _RUNS[key]  # runs whose states are all gone
+    return _RUNS.setdefault(tmp_dir, _RunMemory())
 
 
 class LuaScriptError(Exception):
@@ -57,8 +102,17 @@ class LuaState:
         py[b"module_text"] = lambda name: module_text(modules, _text(name))
         self.err = self.lua.table()
         tmp = str(tmp_dir).rstrip("/").encode()
-        self.rt = self.lua.execute(PRELUDE.encode(), py, self.err, tmp, True)
+        self.run_memory = _run_memory(str(tmp_dir))
+        self.run_memory.states.append(weakref.ref(self))
+        py[b"take_disk"] = lambda n: self.run_memory.take_disk(int(n))
+        # loaded as the chunk "=prelude", so that debug.getinfo can tell its frames
+        prelude = self.lua.globals()[b"load"](PRELUDE.encode(), b"=prelude", b"t")
+        self.rt = prelude(py, self.err, tmp, True)
         self.g = self.lua.globals()
+
+    def _share_memory(self) -> None:
+        """Before the script runs: its limit is what the run's other states leave."""
+        self.lua.set_max_memory(self.run_memory.limit_for(self))
 
     # -- values --------------------------------------------------------------------------------
     def table_of(self, mapping: dict) -> Any:
@@ -105,6 +159,7 @@ class LuaState:
 
     def call(self, fn: Any, *args: Any) -> tuple:
         """Run ``fn`` to its end; its results, or LuaScriptError with the script's line."""
+        self._share_memory()
         out = self.rt.call(fn, *[self.to_lua(a) for a in args])
         if not isinstance(out, tuple):
             out = (out,)
@@ -114,6 +169,7 @@ class LuaState:
 
     def section(self, fn: Any, call_type: int) -> None:
         """Run an old-style chunk with ``sim_call_type`` = ``call_type``."""
+        self._share_memory()
         out = self.rt.section(fn, call_type)
         if isinstance(out, tuple) and not out[0]:
             raise LuaScriptError(_text(out[1]) if len(out) > 1 else "error")
@@ -125,6 +181,7 @@ class LuaState:
 
     def resume(self, co: Any) -> str:
         """Resume a threaded script; "suspended" (it yielded) or "dead" (it ended)."""
+        self._share_memory()
         out = self.rt.resume(co)
         ok, status = out if isinstance(out, tuple) else (out, None)
         if not ok:
@@ -182,3 +239,22 @@ def module_text(folder: str | None, name: str) -> tuple[Any, Any]:
         return resolved.read_bytes(), ("@" + path.name).encode()
     except (OSError, ValueError):
         return None, f"no file {path.name} beside the scene".encode()
+
+
+def run_tmp_dir() -> tempfile.TemporaryDirectory:
+    """A run's temporary folder (``sitegen-lua-PID-...``), after removing those of runs whose
+    process is gone (a killed run cannot remove its own). Folders of older versions (no process
+    number in the name) are removed once a day old."""
+    root = Path(tempfile.gettempdir())
+    with contextlib.suppress(OSError):
+        for folder in root.glob(f"{TMP_PREFIX}*"):
+            pid = folder.name[len(TMP_PREFIX) :].split("-", 1)[0]
+            stale = False
+            if pid.isdigit():
+                stale = Path("/proc/self").exists() and not Path(f"/proc/{pid}").exists()
+            else:
+                with contextlib.suppress(OSError):
+                    stale = time.time() - folder.stat().st_mtime > 86400
+            if stale and folder.is_dir() and not folder.is_symlink():
+                shutil.rmtree(folder, ignore_errors=True)
+    return tempfile.TemporaryDirectory(prefix=f"{TMP_PREFIX}{os.getpid()}-")

@@ -7,10 +7,15 @@ script is done, or its time is up, the child and everything it started are kille
 
 Why a network namespace: the in-process socket guard only sees Python sockets of the script's
 own process; a program the script starts (``subprocess.run(["curl", ...])``) would not be
-stopped by it. The child first moves into a new network namespace, which has no interfaces but
-a loopback that is down, so no process in its tree can reach any address, loopback included.
-That needs root or unprivileged user namespaces; where neither is available the child runs
-without one and :class:`Outcome` says so (``isolation``), so callers can tell the user.
+stopped by it. The child first moves into a new user and network namespace, which has no
+interfaces but a loopback that is down, so no process in its tree can reach any address,
+loopback included. The user namespace is made as root too: root outside keeps no capability in
+there, so nothing in the run can ``setns`` back into the host's network. Then the child closes
+the ways round a network namespace (Unix sockets, ptrace, io_uring, inherited sockets:
+confine.py). That needs root or unprivileged user namespaces; where neither is available the
+child runs without one and :class:`Outcome` says so (``isolation``), so callers can tell the
+user. Only the child itself hands back a result: a process the script forks that returns
+through the runner exits without a word.
 """
 
 from __future__ import annotations
@@ -31,11 +36,19 @@ from typing import Any, TextIO
 
 CLONE_NEWNET = 0x40000000
 CLONE_NEWUSER = 0x10000000
-NAMESPACE = "own process, own network namespace (no network for any process it starts)"
+NAMESPACE = (
+    "own process, own user and network namespace (no network, no Unix socket, for any "
+    "process it starts)"
+)
 PROCESS_ONLY = (
     "own process; no network namespace available: sockets are refused in that process only"
 )
+NAMESPACE_ONLY = "own process, own network namespace; {missing}, for programs it starts only"
 INTERRUPT_GRACE = 3.0  # seconds a Ctrl-C'd script gets to report where it stopped
+PR_SET_PDEATHSIG = 1
+_fenced: str | None = None  # in a fenced child: its isolation line
+KILL_GRACE = 15.0  # call_isolated's callers give a child this long past its own limit
+MAX_WAIT = 86400.0  # one poll() at most (it cannot take a timeout of 1e308 s)
 
 
 @dataclass
@@ -137,15 +150,21 @@ def _child(
     relay_err: bool,
     relay_msg: bool,
 ) -> None:  # pragma: no cover (runs in the child)
+    global _fenced
     status = 0
+    me = os.getpid()
     try:
+        _die_with_parent()
         if own_group:
             os.setpgid(0, 0)
+        netns = None
         if not cut_network:
             isolation = "own process; network allowed by the caller"
         else:
-            isolation = NAMESPACE if _new_network_namespace() else PROCESS_ONLY
-        conn.send(("isolation", (isolation, _netns_id("self"))))
+            isolation, own = _fence()
+            netns = _netns_id("self") if own else None
+            _fenced = isolation
+        conn.send(("isolation", (isolation, netns)))
         if relay_out:
             sys.stdout = _Relay(conn, "out", sys.stdout)
         if relay_err:
@@ -159,13 +178,45 @@ def _child(
         for stream in (err, sys.stdout, sys.stderr):
             with contextlib.suppress(Exception):
                 stream.flush()
-        conn.send(reply)
+        if os.getpid() == me:  # not a process the script forked, come back through here
+            conn.send(reply)
     except BaseException:  # noqa: BLE001
         status = 70
         with contextlib.suppress(Exception):
             os.write(2, traceback.format_exc().encode("utf-8", "replace"))
     finally:
         os._exit(status)  # also ends every thread the script started
+
+
+def _die_with_parent() -> None:
+    """The child is killed when the process that forked it ends, however it ends (a killed
+    ``sitegen`` or clip worker leaves no run behind)."""
+    parent = os.getppid()
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if os.getppid() != parent:  # the parent ended before the line above
+        os._exit(70)
+
+
+def fenced() -> str | None:
+    """In a child that :func:`run_isolated` fenced: its isolation line; otherwise None."""
+    return _fenced
+
+
+def call_isolated(fn: Callable[[], Any], limit: float | None, what: str) -> Any:
+    """``fn()`` in a fenced child (:func:`run_isolated`): its value, or the exception it raised,
+    raised here. A child that passes ``limit`` wall seconds is killed (TimeoutError); one that
+    ends without an answer is a RuntimeError; both name ``what``."""
+    outcome = run_isolated(lambda _err: fn(), limit)
+    if outcome.error is not None:
+        raise outcome.error
+    if outcome.interrupted:
+        raise KeyboardInterrupt
+    if outcome.killed:
+        raise TimeoutError(f"{what} did not end within {limit:g} s: its process was killed")
+    if outcome.status is not None:
+        raise RuntimeError(f"{what}: its process ended abruptly (status {outcome.status})")
+    return outcome.value
 
 
 def _picklable(exc: BaseException) -> BaseException:
@@ -176,19 +227,35 @@ def _picklable(exc: BaseException) -> BaseException:
         return RuntimeError("".join(traceback.format_exception(exc)).strip())
 
 
-def _new_network_namespace() -> bool:
-    """Move this (just forked, single-threaded) process into a network namespace of its own."""
+def _fence() -> tuple[str, bool]:
+    """Namespaces, then confine.py's guards: the isolation line saying what holds, and whether
+    the child has a network namespace of its own."""
+    from .confine import confine
+
+    own = _new_network_namespace()
+    missing = confine() if sys.platform.startswith("linux") else ["not Linux"]
+    if not own:
+        return PROCESS_ONLY, False
+    if own != "user":
+        missing.insert(0, "no user namespace: root in the run keeps its rights outside")
+    if not missing:
+        return NAMESPACE, True
+    return NAMESPACE_ONLY.format(missing="; ".join(missing)), True
+
+
+def _new_network_namespace() -> str | None:
+    """Move this (just forked, single-threaded) process into a user and network namespace of
+    its own ("user"), or a network namespace only (root where user namespaces are off: "net"),
+    or none (None)."""
     if not sys.platform.startswith("linux"):
-        return False
+        return None
     try:
         libc = ctypes.CDLL(None, use_errno=True)
     except OSError:
-        return False
-    if libc.unshare(CLONE_NEWNET) == 0:
-        return True
+        return None
     uid, gid = os.getuid(), os.getgid()
     if libc.unshare(CLONE_NEWUSER | CLONE_NEWNET) != 0:
-        return False
+        return "net" if libc.unshare(CLONE_NEWNET) == 0 else None
     with contextlib.suppress(OSError):  # keep our own uid/gid inside the user namespace
         for name, text in (
             ("setgroups", "deny"),
@@ -197,7 +264,7 @@ def _new_network_namespace() -> bool:
         ):
             with open(f"/proc/self/{name}", "w", encoding="ascii") as fh:
                 fh.write(text)
-    return True
+    return "user"
 
 
 @contextlib.contextmanager
@@ -206,6 +273,9 @@ def thread_network_namespace() -> Iterator[bool]:
     starts meanwhile, get a network namespace of their own, and the thread returns to its
     own namespace afterwards. Root only (a thread cannot come back out of a user namespace);
     yields whether it took effect."""
+    if _fenced is not None:  # this whole process is fenced already (and cannot come back)
+        yield _fenced != PROCESS_ONLY
+        return
     fd = -1
     with contextlib.suppress(OSError):
         if sys.platform.startswith("linux") and os.geteuid() == 0:
@@ -246,12 +316,12 @@ def _parent(
         while True:
             wait = None if deadline is None else max(0.0, deadline - time.monotonic())
             try:
-                if not conn.poll(wait):
+                if not conn.poll(None if wait is None else min(wait, MAX_WAIT)):
+                    if wait is not None and wait > MAX_WAIT:
+                        continue  # a long limit, waited for in steps poll() can take
                     outcome.killed = not outcome.interrupted
                     break
                 kind, payload = conn.recv()
-            except EOFError:
-                break
             except KeyboardInterrupt:
                 outcome.interrupted = True
                 if own_group:  # a Ctrl-C from the terminal did not reach the child
@@ -259,9 +329,10 @@ def _parent(
                         os.kill(pid, signal.SIGINT)
                 deadline = time.monotonic() + INTERRUPT_GRACE
                 continue
+            except Exception:  # noqa: BLE001 (the end, or bytes garbled by a forked process)
+                break
             if kind == "isolation":
-                outcome.isolation, own_ns = payload
-                netns = own_ns if outcome.isolation == NAMESPACE else None
+                outcome.isolation, netns = payload
             elif kind in ("out", "err", "msg"):
                 with contextlib.suppress(Exception):
                     targets[kind].write(payload)

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import contextlib
 import inspect
-import math
 import runpy
 import sys
 import threading
@@ -32,13 +31,14 @@ from sims.lua.keys import KeysEnded
 
 from .client import Connection, Session, set_session
 from .clock import Clock, ScriptTimeout, VirtualClock, WallClock, patch_time, real_monotonic
-from .isolate import run_isolated, thread_network_namespace
+from .isolate import fenced, run_isolated, thread_network_namespace
 from .script_fences import Watchdog, no_network, script_environment
 from .shim_finder import substitute_clients
 from .zmq import uses_zmq
 from .zmq.server import release_stepping
 
 DEFAULT_TIMEOUT = 300.0
+MAX_TIMEOUT = 7 * 86400.0  # longer limits overflow the clocks they are waited on with
 
 
 @dataclass
@@ -152,8 +152,11 @@ def run_script(
     sockets on the wall clock (``speed`` scales it); see foreign.py."""
     label = str(script)
     for name, value in (("timeout", timeout), ("wall_timeout", wall_timeout)):
-        if value is not None and not 0 < value < math.inf:
-            message = f"{label}: {name} must be a positive number of seconds, got {value:g}"
+        if value is not None and not 0 < value <= MAX_TIMEOUT:
+            message = (
+                f"{label}: {name} must be a positive number of seconds, at most "
+                f"{MAX_TIMEOUT:g} (a week), got {value:g}"
+            )
             return RunResult(label, scene, exit_code=2, message=message)
     if isolate and world is None and on_pass is None:
         # every other argument goes to the child as given (a new parameter needs no edit here)
@@ -214,7 +217,8 @@ def run_script(
                 stack.enter_context(no_network(tid, every_thread=_in_child))
                 if not _in_child:
                     cut = stack.enter_context(thread_network_namespace())
-                    result.isolation = IN_PROCESS_NAMESPACE if cut else IN_PROCESS_GUARD
+                    fence = fenced()  # a clip's simulation runs in a fenced child
+                    result.isolation = fence or (IN_PROCESS_NAMESPACE if cut else IN_PROCESS_GUARD)
             _execute(path, label, clock, timeout, result, err, wall_timeout)
             _check_scene_fits(session, result)
             clock.limit = None

@@ -43,7 +43,7 @@ class Watchdog:
         )
 
     def _watch(self) -> None:
-        if self._done.wait(self.limit):
+        if self._done.wait(min(self.limit or 0.0, threading.TIMEOUT_MAX)):
             return
         while not self._done.is_set():
             self.fired = True

@@ -105,10 +105,20 @@ class _Planner:
                 out.add(frozenset((a, b)))
         return out
 
-    def _visit(self, o, parent_frame, at, model, seen) -> None:
-        if o.handle in seen:
-            return
-        seen.add(o.handle)
+    def _visit(self, top, parent_frame, at, model, seen) -> None:
+        """``top`` and everything below it, depth first in file order, without recursion (a
+        file may nest objects deep)."""
+        stack = [(top, parent_frame, at, model)]
+        while stack:
+            o, frame, where, owner = stack.pop()
+            if o.handle in seen:
+                continue
+            seen.add(o.handle)
+            full, where, owner = self._place(o, frame, where, owner)
+            stack.extend((c, full, where, owner) for c in reversed(self.kids.get(o.handle, [])))
+
+    def _place(self, o, parent_frame, at, model):
+        """Plan one object; returns its frame, link and model for its children."""
         base = mul(parent_frame, _tf(o.pose))
         full = mul(base, _displacement(o))
         self.full[o.handle] = full
@@ -148,8 +158,7 @@ class _Planner:
                     d = shape.dynamics
                     part = S.Part(mesh, Pose(*pose), d.respondable, d.static, o.visible, o.name)
                     link.parts.append((part, o))
-        for child in self.kids.get(o.handle, []):
-            self._visit(child, full, at, model, seen)
+        return full, at, model
 
     def _new_body(self, frame: Tf, carrier: SceneObject | None, fixed: bool) -> tuple[int, int]:
         link = Link(frame, carrier=carrier, carrier_frame=frame)

@@ -23,7 +23,10 @@ Conventions (CoppeliaSim's own, kept so that a script sees what it would see in 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
 
 from sims.scene.model_mech import IkElement as IkElement  # re-exported: part of the model
 from sims.scene.model_mech import IkGroup as IkGroup
@@ -278,18 +281,32 @@ class Scene:
     physics: Physics = field(default_factory=Physics)
     ik_groups: tuple[IkGroup, ...] = ()
 
-    def by_handle(self) -> dict[int, SceneObject]:
-        return {o.handle: o for o in self.objects}
+    def by_handle(self) -> Mapping[int, SceneObject]:
+        """Objects by handle (read-only; built once per scene)."""
+        return self._index[0]
 
     def children(self, handle: int | None) -> list[SceneObject]:
-        return [o for o in self.objects if o.parent == handle]
+        """The objects whose parent is ``handle`` (None: the top level), in file order. From an
+        index built once, so walking the whole tree is linear in the number of objects."""
+        return list(self._index[1].get(handle, ()))
+
+    @cached_property
+    def _index(self) -> tuple[Mapping[int, SceneObject], dict[int | None, list[SceneObject]]]:
+        table = {o.handle: o for o in self.objects}
+        kids: dict[int | None, list[SceneObject]] = {}
+        for o in self.objects:
+            kids.setdefault(o.parent, []).append(o)
+        return MappingProxyType(table), kids
 
     def path(self, obj: SceneObject) -> str:
-        """The 4.x object path ``/a/b/c`` from aliases (names where no alias is saved)."""
+        """The 4.x object path ``/a/b/c`` from aliases (names where no alias is saved); a
+        parent loop (possible only in a broken file) ends the path where it repeats."""
         table = self.by_handle()
         parts: list[str] = []
+        seen: set[int] = set()
         cur: SceneObject | None = obj
-        while cur is not None:
+        while cur is not None and cur.handle not in seen:
+            seen.add(cur.handle)
             parts.append(cur.alias or cur.name.split("#")[0])
             cur = table.get(cur.parent) if cur.parent is not None else None
         return "/" + "/".join(reversed(parts))

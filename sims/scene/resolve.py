@@ -78,12 +78,15 @@ def _load(path: str, mtime_ns: int, size: int) -> Any:
         from sims.scene.jsonfile import read_json
 
         return read_json(Path(path))
+    from sims.scene.errors import SceneError
     from sims.scene.scene_cache import load as cached
 
     try:
         return cached(path, _decode)  # decoded once per file content (scene_cache.py)
     except SceneFileError:
         raise
+    except SceneError as exc:  # its one line names the file already
+        raise SceneFileError(str(exc)) from None
     except (OSError, ValueError) as exc:
         raise SceneFileError(f"{path}: {exc}") from exc
 

@@ -111,10 +111,9 @@ def load(path: str | Path, decode: Callable[[str], Scene]) -> Scene:
     folder = cache_dir()
     if folder is None:
         return decode(source)
-    try:
-        data = Path(source).read_bytes()
-    except OSError:
-        return decode(source)  # the decoder names the problem
+    from sims.scene.load import read_file  # bounded: a regular file of limited size
+
+    data = read_file(Path(source))  # raises SceneError naming the problem
     entry = folder / f"{key_for(data)}.json"
     try:
         scene = loads(entry.read_text(encoding="utf-8"), source)
@@ -128,7 +127,17 @@ def load(path: str | Path, decode: Callable[[str], Scene]) -> Scene:
     return scene
 
 
+#: scenes larger than this (objects, mesh numbers) are not cached: writing and checking an
+#: entry holds the scene three times over, and decoding such a scene is the rarer cost
+MAX_CACHED = (20_000, 1_000_000)
+
+
 def _store(folder: Path, entry: Path, scene: Scene, source: str) -> None:
+    values = sum(
+        len(m.vertices) + len(m.indices) for o in scene.objects if o.shape for m in o.shape.meshes
+    )
+    if len(scene.objects) > MAX_CACHED[0] or values > MAX_CACHED[1]:
+        return
     text = dumps(scene)
     try:
         if loads(text, source) != scene:

@@ -6,6 +6,11 @@ then what matters for the type: joint mode and range, shape mass and dynamics, s
 resolution), the embedded scripts and the list of what was not understood. ``--json`` prints the
 same as one JSON document (stable key order, rounded numbers) for tools and tests. A file that
 cannot be read prints one ``file: error: object: message`` line and exits 1.
+
+Both forms take time linear in the number of objects (the tree is walked without recursion from
+the scene's child index); the JSON document is written object by object, and a scene whose
+object paths would add up to more than ``MAX_PATH_CHARS`` (long names nested deep: only a file
+made for it) is refused with one line instead of printing gigabytes.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import argparse
 import json
 import math
 import sys
+from collections.abc import Iterator
 
 from located.verbosity import add_verbosity
 from sims.scene.errors import SceneError
@@ -22,6 +28,9 @@ from sims.scene.model import Pose, Scene, SceneObject
 from sims.scene.resolve import SceneFileError, is_bundled, open_scene
 from sims.scene.rotations import euler_degrees
 from sims.scene.show_mech import hand_built_report, mechanism_lines, mechanisms
+
+MAX_PATH_CHARS = 64 * 1024 * 1024  # all objects' paths in a JSON report together
+INDENT_LEVELS = 32  # deeper objects are indented as much, with their level shown
 
 
 def _clean(text: str) -> str:
@@ -104,27 +113,30 @@ def text_report(scene: Scene) -> str:
         if s.object is not None:
             attached.setdefault(s.object, []).append(s.kind)
 
-    def walk(parent: int | None, depth: int) -> None:
-        for o in scene.children(parent):
-            label = _clean(o.name)
-            if o.alias and o.alias != o.name.split("#")[0]:
-                label += f" (alias {_clean(o.alias)})"
-            info = [o.kind, _pose_text(o.pose)]
-            detail = _details(o)
-            if detail:
-                info.append(detail)
-            if o.handle in attached:
-                info.append("script: " + ", ".join(attached[o.handle]))
-            if o.model_base:
-                info.append("model")
-            lines.append(f"{'  ' * depth}{label} [{o.handle}] " + "; ".join(info))
-            walk(o.handle, depth + 1)
-
     lines.append("")
-    walk(None, 0)
-    orphans = [o for o in scene.objects if o.parent is not None and o.parent not in by_handle]
-    for o in orphans:
-        lines.append(f"{_clean(o.name)} [{o.handle}] (parent {o.parent} missing)")
+    shown: set[int] = set()
+    for o, depth in walk_tree(scene):
+        shown.add(id(o))
+        label = _clean(o.name)
+        if o.alias and o.alias != o.name.split("#")[0]:
+            label += f" (alias {_clean(o.alias)})"
+        info = [o.kind, _pose_text(o.pose)]
+        detail = _details(o)
+        if detail:
+            info.append(detail)
+        if o.handle in attached:
+            info.append("script: " + ", ".join(attached[o.handle]))
+        if o.model_base:
+            info.append("model")
+        level = f"[level {depth}] " if depth > INDENT_LEVELS else ""
+        lines.append(
+            f"{'  ' * min(depth, INDENT_LEVELS)}{level}{label} [{o.handle}] " + "; ".join(info)
+        )
+    for o in scene.objects:
+        if id(o) in shown:
+            continue
+        why = "missing" if o.parent not in by_handle else "in a loop"
+        lines.append(f"{_clean(o.name)} [{o.handle}] (parent {o.parent} {why})")
     if scene.scripts:
         lines.append("")
         lines.append("Scripts:")
@@ -146,6 +158,28 @@ def text_report(scene: Scene) -> str:
     return "\n".join(lines) + "\n"
 
 
+def walk_tree(scene: Scene) -> Iterator[tuple[SceneObject, int]]:
+    """Every object reachable from the top level, depth first in file order, with its depth;
+    no recursion, each object once (objects under a missing parent or on a loop are not
+    reached: the callers list them)."""
+    top = scene.children(None)
+    stack: list[tuple[list[SceneObject], int]] = [(top[::-1], 0)]
+    seen: set[int] = set()
+    while stack:
+        pending, depth = stack[-1]
+        if not pending:
+            stack.pop()
+            continue
+        o = pending.pop()
+        if id(o) in seen:
+            continue
+        seen.add(id(o))
+        yield o, depth
+        kids = scene.children(o.handle)
+        if kids:
+            stack.append((kids[::-1], depth + 1))
+
+
 def _pose_json(p: Pose) -> dict:
     return {
         "position": [_r(v, 6) for v in p.position],
@@ -154,64 +188,109 @@ def _pose_json(p: Pose) -> dict:
     }
 
 
+class ReportTooLarge(ValueError):
+    """The JSON report would print more than ``MAX_PATH_CHARS`` characters of object paths."""
+
+
+def _paths(scene: Scene) -> dict[int, str]:
+    """Every object's path (``Scene.path``), each built from its parent's: linear in the
+    objects, refused beyond ``MAX_PATH_CHARS`` in all."""
+    out: dict[int, str] = {}
+    total = 0
+    for o, _depth in walk_tree(scene):
+        parent = out.get(o.parent) if o.parent is not None else ""
+        path = scene.path(o) if parent is None else f"{parent}/{o.alias or o.name.split('#')[0]}"
+        total += len(path)
+        if total > MAX_PATH_CHARS:
+            raise ReportTooLarge(
+                f"the objects' paths add up to more than {MAX_PATH_CHARS} characters "
+                "(long names nested deep): too much to print"
+            )
+        out[o.handle] = path
+    return out
+
+
 def json_report(scene: Scene) -> str:
-    objects = []
-    for o in scene.objects:
-        item: dict = {
-            "handle": o.handle,
-            "name": o.name,
-            "alias": o.alias,
-            "path": scene.path(o),
-            "kind": o.kind,
-            "parent": o.parent,
-            "pose": _pose_json(o.pose),
-            "visible": o.visible,
-            "model_base": o.model_base,
+    return "".join(json_pieces(scene)) + "\n"
+
+
+def json_pieces(scene: Scene) -> Iterator[str]:
+    """The JSON report in pieces, one object at a time (the same text as one ``json.dumps``
+    of the whole document with ``indent=1``)."""
+    paths = _paths(scene)
+    head = _json_head(scene)
+    if not scene.objects:
+        yield json.dumps({**head, "objects": []}, indent=1, sort_keys=True, ensure_ascii=False)
+        return
+    marker = "\u0000objects"
+    text = json.dumps({**head, "objects": [marker]}, indent=1, sort_keys=True, ensure_ascii=False)
+    before, after = text.split(json.dumps(marker))
+    yield before
+    for i, o in enumerate(scene.objects):
+        item = _json_object(scene, o, paths)
+        piece = json.dumps(item, indent=1, sort_keys=True, ensure_ascii=False)
+        yield ("" if i == 0 else ",\n  ") + piece.replace("\n", "\n  ")
+    yield after
+
+
+def _json_object(scene: Scene, o: SceneObject, paths: dict[int, str]) -> dict:
+    item: dict = {
+        "handle": o.handle,
+        "name": o.name,
+        "alias": o.alias,
+        "path": paths.get(o.handle) or scene.path(o),
+        "kind": o.kind,
+        "parent": o.parent,
+        "pose": _pose_json(o.pose),
+        "visible": o.visible,
+        "model_base": o.model_base,
+    }
+    if o.joint:
+        item["joint"] = {k: _round(v) for k, v in vars(o.joint).items()}
+    if o.shape:
+        d = o.shape.dynamics
+        item["shape"] = {
+            "compound": o.shape.compound,
+            "meshes": [
+                {
+                    "primitive": m.primitive,
+                    "size": [_r(v, 6) for v in m.size],
+                    "vertices": len(m.vertices) // 3,
+                    "triangles": len(m.indices) // 3,
+                    "local": _pose_json(m.local),
+                    "color": [_r(v, 3) for v in m.color],
+                }
+                for m in o.shape.meshes
+            ],
+            "static": d.static,
+            "respondable": d.respondable,
+            "mass": _r(d.mass, 6),
+            "inertia": [_r(v, 9) for v in d.inertia],
+            "inertia_frame": _pose_json(d.inertia_frame),
+            "friction": None if d.friction is None else _r(d.friction, 4),
+            "respondable_mask": d.respondable_mask,
         }
-        if o.joint:
-            item["joint"] = {k: _round(v) for k, v in vars(o.joint).items()}
-        if o.shape:
-            d = o.shape.dynamics
-            item["shape"] = {
-                "compound": o.shape.compound,
-                "meshes": [
-                    {
-                        "primitive": m.primitive,
-                        "size": [_r(v, 6) for v in m.size],
-                        "vertices": len(m.vertices) // 3,
-                        "triangles": len(m.indices) // 3,
-                        "local": _pose_json(m.local),
-                        "color": [_r(v, 3) for v in m.color],
-                    }
-                    for m in o.shape.meshes
-                ],
-                "static": d.static,
-                "respondable": d.respondable,
-                "mass": _r(d.mass, 6),
-                "inertia": [_r(v, 9) for v in d.inertia],
-                "inertia_frame": _pose_json(d.inertia_frame),
-                "friction": None if d.friction is None else _r(d.friction, 4),
-                "respondable_mask": d.respondable_mask,
-            }
-        for key in (
-            "proximity_sensor",
-            "vision_sensor",
-            "force_sensor",
-            "camera",
-            "light",
-            "dummy",
-        ):
-            data = getattr(o, key)
-            if data is not None:
-                item[key] = {k: _round(v) for k, v in vars(data).items()}
-        objects.append(item)
-    doc = {
+    for key in (
+        "proximity_sensor",
+        "vision_sensor",
+        "force_sensor",
+        "camera",
+        "light",
+        "dummy",
+    ):
+        data = getattr(o, key)
+        if data is not None:
+            item[key] = {k: _round(v) for k, v in vars(data).items()}
+    return item
+
+
+def _json_head(scene: Scene) -> dict:
+    return {
         "source": scene.source,
         "format": scene.format,
         "version": scene.version,
         "gravity": [_r(v, 4) for v in scene.gravity],
         "time_step": _r(scene.time_step, 6),
-        "objects": objects,
         "scripts": [
             {
                 "kind": s.kind,
@@ -225,7 +304,6 @@ def json_report(scene: Scene) -> str:
         "notes": [{"where": n.where, "message": n.message} for n in scene.notes],
         **mechanisms(scene),
     }
-    return json.dumps(doc, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
 
 
 def _round(v: object) -> object:
@@ -305,8 +383,19 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
         else:
             sys.stdout.write(text)
         return 0
-    out = json_report(scene) if args.json else text_report(scene)
-    sys.stdout.write(out)
+    if not args.json:
+        sys.stdout.write(text_report(scene))
+        return 0
+    try:
+        pieces = json_pieces(scene)
+        first = next(pieces)  # the paths are checked before anything is printed
+    except ReportTooLarge as exc:
+        print(f"{_clean(args.path)}: error: file: {exc}", file=sys.stderr)
+        return 1
+    sys.stdout.write(first)
+    for piece in pieces:
+        sys.stdout.write(piece)
+    sys.stdout.write("\n")
     return 0
 
 

@@ -12,6 +12,11 @@ vision sensor, ``FSE`` force sensor, ``CMA`` camera, ``LGT`` light, ``SCT`` 4.6+
 whose ``Soo`` part is a script, ...), scripts (``LST``) and
 scene settings (``DYN`` gravity, ``SIM`` time step).
 
+Reading is bounded (:mod:`sims.scene.limits`): the header's uncompressed size may be at most
+``MAX_RATIO`` times the compressed body and at most ``MAX_BODY`` bytes; the body is decoded in
+windows and its chunks read one at a time, so memory follows the file, not what its header
+claims; meshes, objects and compound nesting have bounds of their own.
+
 Reading is pure data: nothing in the file is executed. Whatever is skipped (object types we do
 not model, chunks we do not know, settings of no use to a pybullet world) is listed in
 ``Scene.notes``; a file that cannot be read raises :class:`SceneError` naming the object.
@@ -24,6 +29,7 @@ from dataclasses import replace
 
 from sims.scene import custom_data
 from sims.scene.errors import SceneError
+from sims.scene.limits import MAX_BODY, MAX_RATIO, LimitError, check_depth, check_object_count
 from sims.scene.model import IkGroup, Physics, Scene, SceneNote, SceneObject, Script
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, chunk_list, top_level
 from sims.scene.ttt_huffman import HuffmanError, decompress
@@ -140,19 +146,35 @@ def read_header(data: bytes, source: str) -> tuple[int, int, int, str]:
         )
     if compression not in (0, 1):
         raise SceneError(source, "header", f"unknown compression method {compression}")
-    if size < 0 or size > 1 << 30:
+    if size < 0:
         raise SceneError(source, "header", f"implausible uncompressed size {size}")
+    body_bytes = len(data) - HEADER_SIZE
+    if compression == 1 and size > MAX_RATIO * body_bytes + 4096:
+        raise SceneError(
+            source,
+            "header",
+            f"claims {size} bytes of scene data from {body_bytes} compressed bytes, "
+            f"{size / max(body_bytes, 1):.0f} times as many: real scenes compress less than "
+            f"{MAX_RATIO} times; the file is corrupt or made to exhaust memory",
+        )
+    if size > MAX_BODY:
+        raise SceneError(
+            source,
+            "header",
+            f"claims {size} bytes of scene data, more than the {MAX_BODY} this reader accepts "
+            f"(course scenes hold under 2 MB)",
+        )
     return version, compression, size, text
 
 
 def body(data: bytes, source: str) -> tuple[bytes, int, str]:
     """The decompressed chunk data, the serialization version and the program version."""
     version, compression, size, program = read_header(data, source)
-    raw = data[HEADER_SIZE:]
+    raw = memoryview(data)[HEADER_SIZE:]  # no copy of the body
     if compression == 0:
         if len(raw) < size:
             raise SceneError(source, "file", f"truncated: {len(raw)} of {size} bytes")
-        return raw[:size], version, program
+        return bytes(raw[:size]), version, program
     try:
         return decompress(raw, size), version, program
     except HuffmanError as exc:
@@ -161,10 +183,7 @@ def body(data: bytes, source: str) -> tuple[bytes, int, str]:
 
 def read_ttt(data: bytes, source: str) -> Scene:
     buf, version, program = body(data, source)
-    try:
-        chunks = top_level(buf)
-    except ChunkError as exc:
-        raise SceneError(source, "file", f"corrupt scene data: {exc}") from None
+    chunks = top_level(buf)  # one at a time: a body of millions of empty chunks costs nothing
     notes: list[SceneNote] = []
     pool = Pool()
     materials: dict[int, float | None] = {}
@@ -178,15 +197,23 @@ def read_ttt(data: bytes, source: str) -> Scene:
     custom: list = []
     params: list = []
     unknown_chunks: dict[tuple[str, str], list[str]] = {}
-    for c in chunks:
+    unknown_top: dict[str, int] = {}
+    while True:
+        try:
+            c = next(chunks, None)
+        except ChunkError as exc:
+            raise SceneError(source, "file", f"corrupt scene data: {exc}") from None
+        if c is None:
+            break
         try:
             if c.name == "VIN":
-                pool = read_pool(buf, c)
+                pool = read_pool(buf, c, pool.budget)
             elif c.name == "DMA":
                 mid = material_id(buf, c)
                 if mid is not None:
                     materials[mid] = read_friction(buf, c)
             elif c.name in OBJECT_KINDS:
+                check_object_count(len(objects) + 1)
                 obj = _read_object(buf, c, pool, materials, notes, len(objects), source, scripts)
                 if obj is not None:
                     _unknown(buf, c, obj, unknown_chunks)
@@ -212,10 +239,15 @@ def read_ttt(data: bytes, source: str) -> Scene:
             elif c.name in SETTINGS:
                 skipped[SETTINGS[c.name]] = skipped.get(SETTINGS[c.name], 0) + 1
             else:
-                notes.append(SceneNote("file", f"unknown top-level chunk {c.name!r} skipped"))
+                unknown_top[c.name] = unknown_top.get(c.name, 0) + 1
+        except LimitError as exc:
+            raise SceneError(source, "file", str(exc)) from None
         except (ChunkError, struct.error, ValueError) as exc:
             where = f"{OBJECT_KINDS[c.name]} #{len(objects)}" if c.name in OBJECT_KINDS else "file"
             raise SceneError(source, where, f"corrupt {c.name!r} chunk: {exc}") from None
+    for name, count in unknown_top.items():
+        times = f" ({count} times)" if count > 1 else ""
+        notes.append(SceneNote("file", f"unknown top-level chunk {name!r} skipped{times}"))
     for (kind, name), owners in sorted(unknown_chunks.items()):
         shown = ", ".join(owners[:3]) + (f" and {len(owners) - 3} more" if len(owners) > 3 else "")
         notes.append(
@@ -224,7 +256,10 @@ def read_ttt(data: bytes, source: str) -> Scene:
     if skipped:
         listed = ", ".join(sorted(skipped))
         notes.append(SceneNote("file", f"not used by the simulation, skipped: {listed}"))
-    objects = _check_tree(objects, scripts, notes)
+    try:
+        objects = _check_tree(objects, scripts, notes)
+    except LimitError as exc:
+        raise SceneError(source, "file", str(exc)) from None
     return Scene(
         objects=tuple(objects),
         scripts=tuple(scripts),
@@ -295,6 +330,8 @@ def _read_object(
             local.append(f"{kind} objects are not simulated: kept in the tree without their data")
             if kind in ("marker", "custom"):
                 kind, raw_type = "unknown", None
+    except LimitError as exc:
+        raise SceneError(source, name, str(exc)) from None
     except (ChunkError, struct.error) as exc:
         raise SceneError(source, name, f"corrupt {chunk.name!r} object: {exc}") from None
     notes.extend(SceneNote(name, m) for m in local)
@@ -372,7 +409,8 @@ def _time_step(buf: bytes, chunk: Chunk) -> float | None:
 def _check_tree(
     objects: list[SceneObject], scripts: list[Script], notes: list[SceneNote]
 ) -> list[SceneObject]:
-    """Objects whose parent is missing become top-level (said in the notes)."""
+    """Objects whose parent is missing, or which sit on a parent loop, become top-level (said
+    in the notes); objects nested deeper than the limit are an error (LimitError)."""
     handles = {o.handle for o in objects}
     out = []
     for o in objects:
@@ -380,6 +418,11 @@ def _check_tree(
             notes.append(SceneNote(o.name, f"parent handle {o.parent} is not in the file"))
             o = replace(o, parent=None)
         out.append(o)
+    loops = check_depth(out)
+    for i, o in enumerate(out):
+        if o.handle in loops:
+            notes.append(SceneNote(o.name, "in a parent loop: put at the top"))
+            out[i] = replace(o, parent=None)
     for s in scripts:
         if s.object is not None and s.object not in handles:
             notes.append(SceneNote("script", f"attached to handle {s.object}, not in the file"))

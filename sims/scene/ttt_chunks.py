@@ -15,6 +15,7 @@ e.g. ``_fq``, CoppeliaSim 4.4 and later); strings are an int32 length and bytes.
 from __future__ import annotations
 
 import struct
+from collections.abc import Iterator
 from typing import NamedTuple
 
 TERMINATORS = (b"EOO", b"NXT")
@@ -54,9 +55,9 @@ def chunk_list(buf: bytes, pos: int, end: int) -> tuple[list[Chunk], int]:
     return out, pos
 
 
-def top_level(buf: bytes) -> list[Chunk]:
-    """The scene's top-level chunks, up to ``EOF``."""
-    out: list[Chunk] = []
+def top_level(buf: bytes) -> Iterator[Chunk]:
+    """The scene's top-level chunks, up to ``EOF``, one at a time (raises :class:`ChunkError`
+    where the structure breaks)."""
     pos = 0
     end = len(buf)
     while True:
@@ -64,7 +65,7 @@ def top_level(buf: bytes) -> list[Chunk]:
             raise ChunkError("the scene data ends without its end marker (EOF)")
         name = buf[pos : pos + 3]
         if name == b"EOF":
-            return out
+            return
         if pos + 7 > end:
             raise ChunkError(f"chunk header runs past the end at byte {pos}")
         (size,) = struct.unpack_from("<i", buf, pos + 3)
@@ -73,7 +74,7 @@ def top_level(buf: bytes) -> list[Chunk]:
                 f"chunk {name.decode('latin-1')!r} at byte {pos} claims {size} bytes, "
                 f"only {end - pos - 7} are left"
             )
-        out.append(Chunk(name.decode("latin-1"), pos + 7, pos + 7 + size))
+        yield Chunk(name.decode("latin-1"), pos + 7, pos + 7 + size)
         pos += 7 + size
 
 

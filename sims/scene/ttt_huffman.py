@@ -14,6 +14,11 @@ code starts is followed in blocks: all blocks step at once (numpy), then a short
 using Huffman codes' self-synchronisation (a decode started at a wrong bit falls onto the true code
 boundaries after a few symbols). Codes longer than 24 bits (possible only for extremely skewed
 data) take a plain, slow decoder that gives the same result.
+
+Bounded memory: the arrays above take about 90 bytes per compressed byte, so the stream is
+decoded in windows of ``WINDOW_BITS`` (a quarter of a megabyte of compressed data, ~25 MB of
+work arrays whatever the file's size); the output grows window by window and is never allocated
+at the size the header claims (the caller bounds that claim first, sims/scene/ttt.py).
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ import numpy as np
 MAX_TABLE_BITS = 24
 BLOCK_SYMBOLS = 512
 GROUP_BITS = 256
+WINDOW_BITS = 1 << 21  # compressed bits decoded at once (256 KiB)
 
 
 class HuffmanError(ValueError):
@@ -111,10 +117,34 @@ def _window(words: np.ndarray, bits: np.ndarray, width: int) -> np.ndarray:
 def _decompress_table(
     data: bytes, size: int, codes: dict[int, tuple[int, int]], start: int, width: int
 ) -> bytes:
+    """Decode window by window: each window takes every code whose bits all lie in it."""
     len_table, sym_table = _tables(codes, width)
-    words = _words(data, start)
-    skip = start & 7  # the first code starts this many bits into the first word
-    nbits = len(data) * 8 - start
+    parts: list[bytes] = []
+    done, pos = 0, start
+    while done < size:
+        out, end = _window_decode(data, pos, size - done, len_table, sym_table, width)
+        if not out:
+            raise HuffmanError(f"the compressed data ends after {done} of {size} bytes")
+        parts.append(out)
+        done += len(out)
+        pos = end
+    return b"".join(parts)
+
+
+def _window_decode(
+    data: bytes, pos: int, want: int, len_table: np.ndarray, sym_table: np.ndarray, width: int
+) -> tuple[bytes, int]:
+    """Up to ``want`` symbols from bit ``pos`` on, from at most ``WINDOW_BITS`` of ``data``:
+    the codes whose bits all lie in the window (a code running past it would be read with 0
+    bits; by the prefix property such a code never looks shorter than what is left, so it is
+    never taken). Returns them and the bit position after the last one."""
+    lo = pos >> 3
+    piece = data[lo : lo + (WINDOW_BITS >> 3)]
+    skip = pos & 7  # the first code starts this many bits into the first byte
+    words = _words(piece, 0)
+    nbits = len(piece) * 8 - skip
+    if nbits <= 0:  # the data ended
+        return b"", pos
     # Code length starting at each bit; past the end nothing decodes (0 parks a decode there).
     by_offset = np.empty((len(words), 8), dtype=np.uint8)
     mask = np.uint32((1 << width) - 1)
@@ -122,15 +152,22 @@ def _decompress_table(
         by_offset[:, b] = len_table[(words >> np.uint32(32 - b - width)) & mask]
     step = np.zeros(nbits + 1, dtype=np.uint8)
     step[:nbits] = by_offset.reshape(-1)[skip : skip + nbits]
+    del by_offset
     starts = _block_starts(step, nbits)
     ends = np.append(starts[1:], nbits)
     paths, first, exits = _block_paths(step, starts, ends)
-    positions = _join_fast(paths, first, exits, step, ends, nbits, size)
+    positions = _join_fast(paths, first, exits, step, ends, nbits, want)
     if positions is None:  # a block never fell in step: follow the chain block by block
-        positions = _join(paths, first, exits, step, ends, nbits, size)
-    if positions[-1] + int(step[positions[-1]]) > nbits or not step[positions].all():
-        raise HuffmanError("the compressed data is truncated")
-    return sym_table[_window(words, positions + skip, width)].tobytes()
+        positions = _join(paths, first, exits, step, ends, nbits, want)
+    lengths = step[positions]
+    fits = (lengths > 0) & (positions + lengths <= nbits)
+    if not fits.all():
+        positions = positions[: int(np.argmin(fits))]
+    if not len(positions):
+        return b"", pos
+    last = int(positions[-1])
+    symbols = sym_table[_window(words, positions + skip, width)].tobytes()
+    return symbols, pos + last + int(step[last])
 
 
 def _block_starts(step: np.ndarray, nbits: int) -> np.ndarray:
@@ -252,9 +289,7 @@ def _join_fast(
     chain = paths[paths >= met[block_of]]
     if len(more):
         chain = np.insert(chain, np.searchsorted(chain, more), more)
-    if len(chain) < size:
-        raise HuffmanError(f"the compressed data ends after {len(chain)} of {size} bytes")
-    return chain[:size]
+    return chain[:size]  # fewer than ``size`` when the data ends first (the caller checks)
 
 
 def _join(
@@ -285,8 +320,9 @@ def _join(
         extra: list[int] = []
         while entry < end and not owned[entry]:
             jump = int(step[entry])
-            if jump == 0:
-                raise HuffmanError(f"the compressed data ends after {count} of {size} bytes")
+            if jump == 0:  # no code fits here: the chain ends (the caller checks its length)
+                entry = nbits
+                break
             extra.append(entry)
             entry = min(entry + jump, nbits)
         if extra:
@@ -299,10 +335,7 @@ def _join(
         parts.append(paths[i:stop])
         count += stop - i
         entry = int(exits[b])
-    positions = np.concatenate(parts)[:size] if parts else np.zeros(0, dtype=np.int64)
-    if len(positions) < size:
-        raise HuffmanError(f"the compressed data ends after {len(positions)} of {size} bytes")
-    return positions
+    return np.concatenate(parts)[:size] if parts else np.zeros(0, dtype=np.int64)
 
 
 def _decompress_slow(

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from sims.scene.limits import MAX_COMPOUND_DEPTH, LimitError, MeshBudget
 from sims.scene.model import Dynamics, Mesh, Pose, ShapeData
 from sims.scene.rotations import principal_axes
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, bit, chunk_list
@@ -57,14 +58,19 @@ def _pose(pos: tuple[float, ...], wxyz: tuple[float, ...]) -> Pose:
 
 @dataclass
 class Pool:
-    """The file's shared vertex and index arrays (``VIN``)."""
+    """The file's shared vertex and index arrays (``VIN``). Meshes that refer to the same array
+    share one tuple of it (``tuples``); every mesh's numbers count against the scene's
+    ``budget`` (sims/scene/limits.py), since a file may refer to one array from any number of
+    shapes."""
 
     vertices: list[np.ndarray] = field(default_factory=list)
     indices: list[np.ndarray] = field(default_factory=list)
+    budget: MeshBudget = field(default_factory=MeshBudget)
+    tuples: dict[tuple[str, int], tuple] = field(default_factory=dict)
 
 
-def read_pool(buf: bytes, chunk: Chunk) -> Pool:
-    pool = Pool()
+def read_pool(buf: bytes, chunk: Chunk, budget: MeshBudget | None = None) -> Pool:
+    pool = Pool(budget=budget or MeshBudget())
     parts, _ = chunk_list(buf, chunk.start, chunk.end)
     for c in parts:
         if c.name == "Ver":
@@ -218,24 +224,27 @@ class ShapeReader:
             elif c.name != "Coj":
                 self.unknown.add(f"shape geometry {c.name}")
 
-    def _wrapper(self, chunk: Chunk, part: _Part) -> int:
+    def _wrapper(self, chunk: Chunk, part: _Part, depth: int = 0) -> int:
+        if depth > MAX_COMPOUND_DEPTH:
+            raise LimitError(f"compound shapes nested more than {MAX_COMPOUND_DEPTH} deep")
         parts, pos = chunk_list(self.buf, chunk.start, chunk.end)
         for c in parts:
             if _part_field(self.buf, c, part):
                 continue
             if c.name == "Geo":
-                self._mesh(c, _Part())
+                self._mesh(c, _Part(), depth + 1)
             elif c.name == "Wrp":
-                self._wrapper(c, _Part())
+                self._wrapper(c, _Part(), depth + 1)
             else:
                 self.unknown.add(f"compound {c.name}")
         return pos
 
-    def _mesh(self, chunk: Chunk, part: _Part) -> None:
-        pos = self._wrapper(chunk, part)
+    def _mesh(self, chunk: Chunk, part: _Part, depth: int = 0) -> None:
+        pos = self._wrapper(chunk, part, depth)
         parts, _ = chunk_list(self.buf, pos, chunk.end)
         vertices: np.ndarray | None = None
         indices: np.ndarray | None = None
+        pooled: dict[str, int] = {}  # "v"/"i" -> the pool array used
         primitive: str | None = None
         size = (0.0, 0.0, 0.0)
         local = part.frame or Pose()
@@ -247,15 +256,20 @@ class ShapeReader:
             if c.name == "Cl0":
                 color = read_color(self.buf, c) or color
             elif c.name == "Vev":
-                vertices = self._pooled(self.pool.vertices, f.i32(), "vertex")
+                pooled["v"] = f.i32()
+                vertices = self._pooled(self.pool.vertices, pooled["v"], "vertex")
             elif c.name == "Inv":
-                indices = self._pooled(self.pool.indices, f.i32(), "index")
+                pooled["i"] = f.i32()
+                indices = self._pooled(self.pool.indices, pooled["i"], "index")
             elif c.name == "Ver":
                 vertices = np.frombuffer(self.buf, "<f4", (c.end - c.start) // 4, c.start)
+                pooled.pop("v", None)
             elif c.name == "Ind":
                 indices = np.frombuffer(self.buf, "<i4", (c.end - c.start) // 4, c.start)
+                pooled.pop("i", None)
             elif c.name == "In2":
                 indices = unpack_indices(self.buf, c)
+                pooled.pop("i", None)
             elif c.name in ("Ppr", "_pr"):
                 kind = f.i32()
                 primitive = PRIMITIVES.get(kind)
@@ -274,14 +288,16 @@ class ShapeReader:
         if vertices is None or indices is None:
             vertices = np.zeros(0, dtype=np.float32)
             indices = np.zeros(0, dtype=np.int64)
+            pooled.clear()
         if len(vertices) % 3 or len(indices) % 3:
             raise ChunkError("a mesh's vertex or index count is not a multiple of 3")
         if len(indices) and (indices.min() < 0 or indices.max() >= len(vertices) // 3):
             raise ChunkError("a mesh's triangle refers to a vertex it does not have")
+        self.pool.budget.take(len(vertices) + len(indices))
         self.meshes.append(
             Mesh(
-                vertices=tuple(vertices.astype(np.float64).tolist()),
-                indices=tuple(indices.tolist()),
+                vertices=self._tuple("v", pooled, vertices, float),
+                indices=self._tuple("i", pooled, indices, int),
                 primitive=primitive,
                 size=size,
                 local=local,
@@ -290,6 +306,17 @@ class ShapeReader:
                 convex=convex,
             )
         )
+
+    def _tuple(self, kind: str, pooled: dict[str, int], array: np.ndarray, of: type) -> tuple:
+        """The array as a tuple of Python numbers, shared by every mesh using the same pool
+        array (a file may refer to one array from thousands of shapes)."""
+        key = (kind, pooled[kind]) if kind in pooled else None
+        found = self.pool.tuples.get(key) if key is not None else None
+        if found is None:
+            found = tuple((array.astype(np.float64) if of is float else array).tolist())
+            if key is not None:
+                self.pool.tuples[key] = found
+        return found
 
     def _pooled(self, arrays: list[np.ndarray], index: int, what: str) -> np.ndarray:
         if not 0 <= index < len(arrays):

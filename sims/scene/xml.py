@@ -32,6 +32,13 @@ from pathlib import Path
 from xml.parsers import expat as pyexpat
 
 from sims.scene.errors import SceneError
+from sims.scene.limits import (
+    MAX_DEPTH,
+    MAX_XML_ITEMS,
+    LimitError,
+    MeshBudget,
+    check_object_count,
+)
 from sims.scene.model import (
     CameraData,
     DummyData,
@@ -95,12 +102,25 @@ def parse(data: bytes, source: str) -> ET.Element:
     expat.EntityDeclHandler = refuse
     expat.UnparsedEntityDeclHandler = refuse
     expat.ExternalEntityRefHandler = refuse
-    expat.StartElementHandler = builder.start
+    items = [0]
+
+    def start(tag: str, attrs: dict[str, str]) -> object:
+        items[0] += 1 + len(attrs)
+        if items[0] > MAX_XML_ITEMS:
+            raise LimitError(
+                f"more than {MAX_XML_ITEMS:,} XML elements and attributes (the course's XML "
+                "scene has 2,267)"
+            )
+        return builder.start(tag, attrs)
+
+    expat.StartElementHandler = start
     expat.EndElementHandler = builder.end
     expat.CharacterDataHandler = builder.data
     try:
         expat.Parse(data, True)
         return builder.close()
+    except LimitError as exc:
+        raise SceneError(source, f"line {expat.CurrentLineNumber}", str(exc)) from None
     except _Refuse:
         line = expat.CurrentLineNumber
         raise SceneError(
@@ -133,7 +153,7 @@ def read_xml(data: bytes, source: str) -> Scene:
         raise SceneError(source, "settings", str(exc)) from None
     for child in root:
         if child.tag in OBJECT_TAGS:
-            reader.object(child, None)
+            reader.tree(child)
         elif child.tag not in SETTINGS_TAGS:
             reader.notes.append(SceneNote("file", f"element <{child.tag}> not understood, skipped"))
     reader.resolve_links()
@@ -159,6 +179,7 @@ class _Reader:
         self.scripts: list[Script] = []
         self.notes: list[SceneNote] = []
         self.links: dict[int, str] = {}  # dummy handle -> name of the dummy it is linked to
+        self.budget = MeshBudget()
 
     def resolve_links(self) -> None:
         """``linkedDummy`` names a dummy (by name or alias): turn it into its handle."""
@@ -174,13 +195,35 @@ class _Reader:
                     continue
                 self.objects[i] = replace(obj, dummy=replace(obj.dummy, linked_to=target))
 
-    def object(self, el: ET.Element, parent: int | None) -> None:
+    def tree(self, top: ET.Element) -> None:
+        """A top-level object and everything below it, in document order, without recursion
+        (a file may nest objects thousands deep: that is an error past ``MAX_DEPTH``)."""
+        stack: list[tuple[ET.Element, int | None, int]] = [(top, None, 0)]
+        while stack:
+            el, parent, depth = stack.pop()
+            if depth > MAX_DEPTH:
+                name = text(el.find("common"), "name") or el.tag
+                raise SceneError(
+                    self.source,
+                    name,
+                    f"objects nested more than {MAX_DEPTH} deep (course scenes nest 24 at most)",
+                )
+            try:
+                check_object_count(len(self.objects) + 1)
+            except LimitError as exc:
+                raise SceneError(self.source, "file", str(exc)) from None
+            handle = self.object(el, parent)
+            kids = [child for child in el if child.tag in OBJECT_TAGS]
+            stack.extend((child, handle, depth + 1) for child in reversed(kids))
+
+    def object(self, el: ET.Element, parent: int | None) -> int:
+        """Read one object element (not its children); returns its handle."""
         handle = len(self.objects)
         common = el.find("common")
         name = text(common, "name") or f"{el.tag}{handle}"
         try:
             obj = self._object(el, common, handle, name, parent)
-        except ValueError as exc:
+        except ValueError as exc:  # LimitError included: its message says which bound
             raise SceneError(self.source, name, str(exc)) from None
         self.objects.append(obj)
         for tag, kind in (("childScript", "child"), ("customizationScript", "customization")):
@@ -194,9 +237,7 @@ class _Reader:
                         disabled=not flag(script, "switches/enabled", True),
                     )
                 )
-        for child in el:
-            if child.tag in OBJECT_TAGS:
-                self.object(child, handle)
+        return handle
 
     def _object(self, el, common, handle: int, name: str, parent: int | None) -> SceneObject:
         kind = OBJECT_TAGS[el.tag]
@@ -239,6 +280,7 @@ class _Reader:
     def _shape(self, el: ET.Element, name: str) -> ShapeData:
         local: list[str] = []
         meshes, compound = read_geometry(el, local)
+        self.budget.take(sum(len(m.vertices) + len(m.indices) for m in meshes))
         dynamics: Dynamics = read_dynamics(el.find("dynamics"), self.program)
         self.notes.extend(SceneNote(name, m) for m in local)
         if not meshes:

@@ -8,6 +8,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from sims.scene.limits import MAX_COMPOUND_DEPTH, LimitError
 from sims.scene.model import Dynamics, Mesh, Physics, Pose
 from sims.scene.rotations import principal_axes
 from sims.scene.xml_values import flag, floats, frame, number, text
@@ -90,13 +91,22 @@ def read_geometry(el: ET.Element, notes: list[str]) -> tuple[list[Mesh], bool]:
 
 
 def _collect(el: ET.Element, meshes: list[Mesh], notes: list[str]) -> None:
-    for child in el:
-        if child.tag in PARTS:
+    """The parts of a compound and of the compounds inside it, in document order, without
+    recursion; compounds nested more than ``MAX_COMPOUND_DEPTH`` deep are an error."""
+    stack = [(iter(el), 0)]
+    while stack:
+        children, depth = stack[-1]
+        child = next(children, None)
+        if child is None:
+            stack.pop()
+        elif child.tag in PARTS:
             mesh = _part(child, notes)
             if mesh is not None:
                 meshes.append(mesh)
         elif child.tag == "compound":
-            _collect(child, meshes, notes)
+            if depth + 1 > MAX_COMPOUND_DEPTH:
+                raise LimitError(f"compound shapes nested more than {MAX_COMPOUND_DEPTH} deep")
+            stack.append((iter(child), depth + 1))
 
 
 def read_dynamics(dyn: ET.Element | None, program: int) -> Dynamics:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from xml.sax.saxutils import escape
 
-from sims.scene.model import Mesh, Pose, Scene, SceneObject
+from sims.scene.model import Mesh, Pose, Scene, SceneObject, Script
 from sims.scene.rotations import euler_degrees
 
 TAGS = {
@@ -77,14 +77,39 @@ def write_xml(scene: Scene) -> str:
     out.leaf("simulationTimeStep", _n(scene.time_step))
     out.close("simulation")
     handles = {o.handle for o in scene.objects}
+    scripts: dict[int, list[Script]] = {}
+    for script in scene.scripts:
+        if script.object is not None and script.kind in ("child", "customization"):
+            scripts.setdefault(script.object, []).append(script)
+    written: set[int] = set()
     for obj in scene.objects:
         if obj.parent is None or obj.parent not in handles:
-            _object(out, scene, obj)
+            _tree(out, scene, obj, scripts, written)
     out.close("CoppeliaSim")
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + "\n".join(out.lines) + "\n"
 
 
-def _object(out: _Out, scene: Scene, obj: SceneObject) -> None:
+def _tree(
+    out: _Out, scene: Scene, top: SceneObject, scripts: dict[int, list[Script]], written: set[int]
+) -> None:
+    """``top`` and the objects below it, each inside its parent's element, without recursion
+    (children from the scene's index: linear in the objects)."""
+    stack: list[SceneObject | str] = [top]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            out.close(item)
+            continue
+        if id(item) in written:
+            continue
+        written.add(id(item))
+        tag = _object(out, scene, item, scripts.get(item.handle, ()))
+        stack.append(tag)
+        stack.extend(reversed(scene.children(item.handle)))
+
+
+def _object(out: _Out, scene: Scene, obj: SceneObject, scripts) -> str:
+    """Open the object's element and write its own content; returns the tag to close."""
     tag = TAGS.get(obj.kind, "dummy")  # kinds without a simple-XML form keep their place
     out.open(tag)
     out.open("common")
@@ -143,19 +168,16 @@ def _object(out: _Out, scene: Scene, obj: SceneObject) -> None:
         )
         if linked is not None:
             out.leaf("linkedDummy", linked.name)
-    for script in scene.scripts:
-        if script.object == obj.handle and script.kind in ("child", "customization"):
-            tag_s = "childScript" if script.kind == "child" else "customizationScript"
-            out.open(tag_s)
-            out.open("switches")
-            out.leaf("enabled", not script.disabled)
-            out.leaf("threadedExecution", script.threaded)
-            out.close("switches")
-            out.leaf("scriptText", script.text)
-            out.close(tag_s)
-    for child in scene.children(obj.handle):
-        _object(out, scene, child)
-    out.close(tag)
+    for script in scripts:
+        tag_s = "childScript" if script.kind == "child" else "customizationScript"
+        out.open(tag_s)
+        out.open("switches")
+        out.leaf("enabled", not script.disabled)
+        out.leaf("threadedExecution", script.threaded)
+        out.close("switches")
+        out.leaf("scriptText", script.text)
+        out.close(tag_s)
+    return tag
 
 
 def _mesh(out: _Out, mesh: Mesh) -> None:
