@@ -75,7 +75,7 @@ class ReplayTape:
         row = np.empty((len(self.keys), 7), dtype=np.float64)
         try:
             for k, (body, link) in enumerate(self.keys):
-                pos, orn = world._link_frame(body, link)
+                pos, orn = world.link_frame(body, link)
                 row[k, :3], row[k, 3:] = pos, orn
         except Exception as exc:  # pybullet says "getLinkState failed" for a lost body
             raise ReplayError(f"the scene's bodies changed at sample {len(self.rows)}") from exc

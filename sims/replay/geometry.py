@@ -5,7 +5,7 @@ Two sources hold a World's looks, and the renderer draws both:
 - pybullet's own visual shapes (``getVisualShapeData``): the hand-built models (cart,
   ``2w1a-hand``), the arena, obstacles and sitegen's checker floor. A frame given there is
   relative to the link's own (URDF) frame, which for a base is its centre of mass moved back
-  by the inertial offset (measured; ``World._link_frame`` computes the same frame);
+  by the inertial offset (measured; ``World.link_frame`` computes the same frame);
 - a scene file's looks (``model.data["looks"]``, sims/scene/bodies.py): every visible mesh
   of the scene with its pose in its link's frame. The physics links of a scene file carry a
   hidden, transparent sphere only, which is skipped here (alpha 0).
