@@ -62,10 +62,12 @@ def worker_env() -> dict[str, str]:
 
 
 class Pool:
-    """Up to ``size`` workers; logs go to ``log_dir``."""
+    """Up to ``size`` workers; logs go to ``log_dir``. ``module``: what each worker runs
+    (``python -m MODULE``, speaking the protocol above; sweeps use sims.sweeps.worker)."""
 
-    def __init__(self, size: int, log_dir: Path):
+    def __init__(self, size: int, log_dir: Path, module: str = "sims.clip_worker"):
         self.size = size
+        self.module = module
         self.log_dir = log_dir
         self.env = worker_env()
         self.workers: list[Worker] = []
@@ -77,7 +79,7 @@ class Pool:
         log = self.log_dir / f"worker-{self._spawned}.log"
         with open(log, "wb") as err:
             process = subprocess.Popen(
-                [sys.executable, "-m", "sims.clip_worker"],
+                [sys.executable, "-m", self.module],
                 stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE,
                 stderr=err,

@@ -69,6 +69,7 @@ class RunResult:
     final_state: str = "stopped"  # the simulation's state when the run ended
     isolation: str = "in-process"  # how the run was fenced in (see isolate.py)
     missing: list[Any] = field(default_factory=list)  # client.Missing: names/functions lacking
+    probe: Any = None  # what ``probe(simulator)`` returned at the last pass (run_script)
 
     @property
     def ok(self) -> bool:
@@ -117,6 +118,7 @@ def run_script(
     trace: bool = True,
     wall_timeout: float | None = None,
     isolate: bool = True,
+    probe: Callable[[Any], Any] | None = None,
 ) -> RunResult:
     """Run ``script`` against ``scene``; see the module docstring. ``world``: drive this World
     (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass.
@@ -127,7 +129,12 @@ def run_script(
     (the default) the script runs in a child process (isolate.py) that is killed, with all it
     started, when the script ends or its wall-clock limit + ``after`` + KILL_GRACE pass. A run
     that drives the caller's ``world`` or calls ``on_pass`` needs the caller's objects and runs
-    in this process (the clip recorder's worker process is itself killable)."""
+    in this process (the clip recorder's worker process is itself killable).
+
+    ``probe(simulator)`` is called after every pass where the script runs (in the isolated
+    child too: it is forked, so any function works, but it sees the child's memory); its
+    last return value comes back as ``RunResult.probe`` (picklable). Sweeps read the final
+    state of the scene through it (sims/sweeps/one_run.py)."""
     label = str(script)
     for name, value in (("timeout", timeout), ("wall_timeout", wall_timeout)):
         if value is not None and not 0 < value < math.inf:
@@ -161,6 +168,8 @@ def run_script(
         sim.pass_observers.append(lambda s: result.samples.append(_sample(s)))
     if on_pass is not None:
         sim.pass_observers.append(on_pass)
+    if probe is not None:
+        sim.pass_observers.append(lambda s: setattr(result, "probe", probe(s)))
     previous = set_session(session)
     tid = threading.get_ident()
     started = real_monotonic()
