@@ -118,6 +118,7 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     run.add_argument("--size", default="480x360", help="clip size WxH (default 480x360)")
     run.add_argument("--fps", type=int, default=20, help="clip frames per second (default 20)")
     add_verbosity(run, "no summary line", "also the scene and seed before the run")
+    sub.add_parser("sweep", help="run a script many times: seeds, grids (sims/sweeps/cli.py)")
     add_verbosity(
         sub.add_parser("functions", help="list the emulated and the unsupported simx functions"),
         "accepted as on every command; the lists are always printed",
@@ -127,6 +128,8 @@ def _parser(prog: str) -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
+    if (given := list(sys.argv[1:] if argv is None else argv))[:1] == ["sweep"]:
+        return __import__("sims.sweeps.cli").sweeps.cli.main(given[1:], f"{prog} sweep")
     args = _parser(prog).parse_args(argv)
     if args.command == "functions":
         return _functions()  # -q/-v: the lists are the command's data, printed either way

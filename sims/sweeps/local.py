@@ -34,6 +34,14 @@ class LocalExecutor:
     def __init__(self, workers: int | None = None, retries: int = 2):
         self.workers = max(1, workers or os.cpu_count() or 1)
         self.retries = retries
+        self._pool: Pool | None = None  # kept between run() calls (an optimiser's generations)
+        self._log_dir: str | None = None
+
+    def __enter__(self) -> LocalExecutor:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     def describe(self) -> str:
         return f"local, {self.workers} worker{'s' if self.workers != 1 else ''}"
@@ -55,8 +63,10 @@ class LocalExecutor:
             limit = job["timeout"] + max(0.0, job["after"]) + KILL_GRACE + DEADLINE_SLACK
             return Job(next(ids), job, limit, owner=job)
 
-        log_dir = tempfile.mkdtemp(prefix="sitegen-sweep-workers-")
-        pool = Pool(min(self.workers, len(jobs)) or 1, log_dir=Path(log_dir), module=MODULE)
+        if self._pool is None:
+            self._log_dir = tempfile.mkdtemp(prefix="sitegen-sweep-workers-")
+            self._pool = Pool(self.workers, log_dir=Path(self._log_dir), module=MODULE)
+        pool = self._pool
         try:
             for job, outcome in pool.run(next_job, lambda: bool(queue), lambda _j: None):
                 spec = job.owner
@@ -72,10 +82,15 @@ class LocalExecutor:
                     queue.appendleft(spec)  # the worker died under it: again, on a new one
                 else:
                     yield lost_record(spec, f"worker {outcome.get('error')}", "lost", tries[index])
-        finally:
-            pool.close()
-            shutil.rmtree(log_dir, ignore_errors=True)
+        except BaseException:  # interrupted: no worker keeps running a run nobody waits for
+            self.close()
+            raise
 
     def close(self) -> None:
-        pass
+        if self._pool is not None:
+            self._pool.close()
+            self._pool = None
+        if self._log_dir is not None:
+            shutil.rmtree(self._log_dir, ignore_errors=True)
+            self._log_dir = None
 

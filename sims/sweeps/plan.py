@@ -55,7 +55,7 @@ class RunSpec:
 
 def option_error(option: str, message: str) -> LocatedError:
     """A bad command-line value: the option stands in for the file."""
-    return LocatedError(Diagnostic(option, None, option, message))
+    return LocatedError(Diagnostic(option, None, "", message))
 
 
 def derived_seed(sweep_seed: int, index: int) -> int:
@@ -192,7 +192,7 @@ def plan_runs(
                 for name, value in args:
                     if name == SEED_NAME:
                         where = (
-                            Diagnostic("--grid", None, SEED_NAME, "")
+                            Diagnostic("--grid", None, "", "")
                             if line is None or name in names
                             else Diagnostic(str(args_file), line, SEED_NAME, "")
                         )

@@ -23,10 +23,17 @@ def _duration(seconds: float) -> str:
 
 class SweepProgress:
     def __init__(
-        self, total: int, stream: TextIO | None = None, live: bool | None = None, every=10.0
+        self,
+        total: int,
+        stream: TextIO | None = None,
+        live: bool | None = None,
+        every: float = 10.0,
+        quiet: bool = False,
     ):
+        """``quiet``: failed runs only, no progress line."""
         self.total = total
         self.stream = stream or sys.stderr
+        self.quiet = quiet
         self.live = self.stream.isatty() if live is None else live
         self.every = every
         self.done = self.failed = 0
@@ -69,6 +76,8 @@ class SweepProgress:
         self.stream.flush()
 
     def _show(self, force: bool = False) -> None:
+        if self.quiet:
+            return
         now = time.monotonic()
         if self.live:
             if force or now - self._shown >= 0.2:
@@ -82,6 +91,8 @@ class SweepProgress:
             self._shown = now
 
     def close(self) -> None:
+        if self.quiet:
+            return
         self._show(force=True)
         if self.live:
             self.stream.write("\n")

@@ -66,6 +66,12 @@ class RayExecutor:
         self._ray = ray
         return ray
 
+    def __enter__(self) -> RayExecutor:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
     def describe(self) -> str:
         ray = self._ray or self._connect()
         nodes = [n for n in ray.nodes() if n.get("Alive")]
