@@ -35,10 +35,14 @@ def import_ray() -> Any:
 
 
 def ray_execute(job: dict[str, Any]) -> dict[str, Any]:
-    """The Ray task: one run, in a Ray worker process."""
+    """The Ray task: one run, in a Ray worker process; ``host`` also names the Ray node."""
+    import ray
+
     from .one_run import execute
 
-    return execute(job)
+    record = execute(job)
+    record["host"] += f" node {ray.get_runtime_context().get_node_id()[:12]}"
+    return record
 
 
 class RayExecutor:

@@ -57,7 +57,8 @@ def result_column(key: str, taken: set[str]) -> str:
 
 
 def table(records: list[RunRecord]) -> tuple[list[str], list[list[str]]]:
-    """The header and rows of results.csv (records in index order)."""
+    """The header and rows of results.csv, in run-index order."""
+    records = sorted(records, key=lambda r: r.index)
     args, results, pose, joints = columns(records)
     taken = set(FIXED) | set(STATUS) | set(args) | {"error"}
     taken |= {f"final_{k}" for k in [*pose, *joints]}
