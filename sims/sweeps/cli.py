@@ -121,16 +121,17 @@ def main(argv: list[str] | None = None, prog: str = "sitegen remote-api sweep") 
     out = Path(args.out or f"sweep-{Path(args.script).stem}")
     from sims.sweeps.progress import SweepProgress
 
-    shown = SweepProgress(len(planned), quiet=args.verbosity < 0)
     try:
         chosen = runs.make_executor(executor, args.workers, address)
-        if args.verbosity >= 0:
-            print(f"[sweep] {len(planned)} runs of {args.script} on {chosen.describe()}",
-                  file=sys.stderr)  # fmt: skip
-        outcome = runs.sweep(settings, planned, out, chosen, progress=shown)
+        described = chosen.describe()
     except (RuntimeError, ValueError) as exc:  # Ray missing or unreachable: one line
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    if args.verbosity >= 0:
+        print(f"[sweep] {len(planned)} runs of {args.script} on {described}", file=sys.stderr)
+    shown = SweepProgress(len(planned), quiet=args.verbosity < 0)
+    try:
+        outcome = runs.sweep(settings, planned, out, chosen, progress=shown)
     finally:
         shown.close()
     failed = outcome.failed
