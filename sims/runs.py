@@ -48,7 +48,7 @@ def make_executor(
     address: str | None = None,
     retries: int | None = None,
 ) -> Executor:
-    """"local" (``workers`` processes, default every core), "ray" (the cluster at
+    """ "local" (``workers`` processes, default every core), "ray" (the cluster at
     ``address``: "auto" for a running one; none: the one this process joined, else a new local
     one) or an executor object, returned as is."""
     if executor is None:
@@ -159,9 +159,7 @@ def candidates(batch: Sequence[Mapping[str, Any]], sweep_seed: int = 0) -> list[
     for index, candidate in enumerate(batch):
         args = tuple((str(k), _text(v)) for k, v in candidate.items())
         seed = (
-            int(candidate[SEED_NAME])
-            if SEED_NAME in candidate
-            else derived_seed(sweep_seed, index)
+            int(candidate[SEED_NAME]) if SEED_NAME in candidate else derived_seed(sweep_seed, index)
         )
         runs.append(RunSpec(index, seed, args))
     return runs

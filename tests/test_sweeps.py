@@ -44,7 +44,12 @@ def test_plan_seeds_grid_and_derived_seeds():
         (3, 8, (("a", "2"), ("b", "x"))),
     ]
     assert planned[1].argv() == ["--a=2", "--b=x"]
-    assert planned[1].env() == {"SWEEP_A": "2", "SWEEP_B": "x", "SWEEP_INDEX": "1", "SWEEP_SEED": "7"}
+    assert planned[1].env() == {
+        "SWEEP_A": "2",
+        "SWEEP_B": "x",
+        "SWEEP_INDEX": "1",
+        "SWEEP_SEED": "7",
+    }
     grid = plan_runs(None, parse_grid(["g=1,2,3"]), sweep_seed=5)
     assert [r.seed for r in grid] == [derived_seed(5, i) for i in range(3)]
     assert len({r.seed for r in grid}) == 3 and derived_seed(5, 0) != derived_seed(6, 0)

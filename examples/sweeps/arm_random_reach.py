@@ -32,7 +32,7 @@ path = 0.0
 x, y = x0, y0
 for move in range(MOVES):
     targets = [random.randint(0, 300) for _ in MOTORS]
-    for name, degrees in zip(MOTORS, targets):
+    for name, degrees in zip(MOTORS, targets, strict=True):
         sim.simxSetJointTargetPosition(client, handles[name], math.radians(degrees), blocking)
     time.sleep(SETTLE)
     _, (nx, ny, _) = sim.simxGetObjectPosition(client, handles["2W1A"], -1, blocking)

@@ -3,9 +3,10 @@
 The 2W1A's wheels roll freely; it moves only by swinging its arm between a reaching pose and a
 pulling pose. The six angles of the two poses (degrees) are arguments, ``--reach_shoulder=40``
 and so on (``sitegen remote-api sweep --grid`` and ``sims.runs.evaluate`` pass them that way);
-the script runs a few strokes in stepping mode (ZeroMQ remote API) and reports how far forward
-the body got from where it started as ``RESULT distance=...``. Written for this project (not course code); it runs
-unchanged in CoppeliaSim 4.3+ with the 2W1A scene and the ZeroMQ remote API add-on.
+the script runs a few strokes in stepping mode (ZeroMQ remote API) and reports how far the body
+got from where it started as ``RESULT distance=...``. Written for this project (not course
+code); it runs unchanged in CoppeliaSim 4.3+ with the 2W1A scene and the ZeroMQ remote API
+add-on.
 
 Run: sitegen remote-api run examples/sweeps/crawl_gait.py --scene 2w1a -- --reach_elbow=220
 """
@@ -41,7 +42,7 @@ pull = [args.pull_shoulder, args.pull_elbow, args.pull_wrist]
 
 
 def hold(pose):
-    for joint, degrees in zip(arm, pose):
+    for joint, degrees in zip(arm, pose, strict=True):
         sim.setJointTargetPosition(joint, math.radians(degrees))
     for _ in range(args.steps):
         sim.step()

@@ -20,7 +20,14 @@ from pathlib import Path
 from sims.runs import evaluate, make_executor
 
 SCRIPT = Path(__file__).resolve().parent / "crawl_gait.py"
-GENES = ("reach_shoulder", "reach_elbow", "reach_wrist", "pull_shoulder", "pull_elbow", "pull_wrist")
+GENES = (
+    "reach_shoulder",
+    "reach_elbow",
+    "reach_wrist",
+    "pull_shoulder",
+    "pull_elbow",
+    "pull_wrist",
+)
 LOW, HIGH = 0.0, 300.0  # degrees, the range the course's experiments use
 
 
@@ -52,14 +59,13 @@ def search(population: int, generations: int, executor, seed: int = 1, strokes: 
     for generation in range(generations):
         batch = [{**genes, "strokes": strokes} for genes in pop]
         records = evaluate(SCRIPT, "2w1a", batch, executor=executor, sweep_seed=seed)
-        scored = sorted(
-            zip((fitness(r) for r in records), range(len(pop)), pop), key=lambda t: (-t[0], t[1])
-        )
+        ranked = zip([fitness(r) for r in records], range(len(pop)), pop, strict=True)
+        scored = sorted(ranked, key=lambda t: (-t[0], t[1]))
         best, _, genes = scored[0]
         history.append((generation, best, genes))
         print(f"generation {generation}: best distance {best:.4f} m with {genes}")
 
-        def pick() -> dict:
+        def pick(scored: list = scored) -> dict:
             a, b = rng.sample(scored, 2)
             return a[2] if (a[0], -a[1]) >= (b[0], -b[1]) else b[2]
 

@@ -93,4 +93,3 @@ class LocalExecutor:
         if self._log_dir is not None:
             shutil.rmtree(self._log_dir, ignore_errors=True)
             self._log_dir = None
-

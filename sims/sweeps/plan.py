@@ -132,9 +132,7 @@ def read_args_file(path: str | Path) -> tuple[list[str], list[tuple[int, list[st
                 continue
             if len(cells) != len(header):
                 raise LocatedError(
-                    Diagnostic(
-                        label, line, "row", f"{len(cells)} values for {len(header)} columns"
-                    )
+                    Diagnostic(label, line, "row", f"{len(cells)} values for {len(header)} columns")
                 )
             rows.append((line, cells))
     except csv.Error as exc:

@@ -86,9 +86,7 @@ class RayExecutor:
         self, jobs: list[dict[str, Any]], started: Callable[[int], None] | None = None
     ) -> Iterator[dict[str, Any]]:
         ray = self._ray or self._connect()
-        task = ray.remote(max_retries=self.retries, retry_exceptions=False, num_cpus=1)(
-            ray_execute
-        )
+        task = ray.remote(max_retries=self.retries, retry_exceptions=False, num_cpus=1)(ray_execute)
         window = max(2, 2 * int(ray.cluster_resources().get("CPU", 1)))
         queue = deque(jobs)
         flying: dict[Any, dict[str, Any]] = {}

@@ -103,8 +103,7 @@ def csv_text(records: list[RunRecord]) -> str:
 
 def jsonl_text(records: list[RunRecord]) -> str:
     return "".join(
-        json.dumps(r.to_json(), ensure_ascii=False, separators=(",", ":")) + "\n"
-        for r in records
+        json.dumps(r.to_json(), ensure_ascii=False, separators=(",", ":")) + "\n" for r in records
     )
 
 
