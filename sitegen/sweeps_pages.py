@@ -307,6 +307,8 @@ class SweepsIntegration(Integration):
             "error": self.failed.get(sweep.name),
             "toc": [],
             "sort_js": root + "assets/sweep.js",
+            "summary": "",
+            "header": None,
         }
         records = self.records.get(sweep.name)
         if records is None:
