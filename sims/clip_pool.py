@@ -184,6 +184,22 @@ class Pool:
                 yield job, {"ok": False, "error": error, "killed": True}
 
 
+#: What runs clip jobs: None or "local", these worker processes; "ray" or "ray:ADDRESS", Ray
+#: tasks (sims/sweeps/ray_pool.py). Set by the build from ``sims.executor`` (sitegen/
+#: sweeps_pages.py); ``$SITEGEN_CLIP_EXECUTOR`` when it is None.
+EXECUTOR: str | None = None
+
+
+def make_pool(size: int, log_dir: Path) -> Pool:
+    """The pool for one render_clips call, as :data:`EXECUTOR` says."""
+    choice = EXECUTOR or os.environ.get("SITEGEN_CLIP_EXECUTOR") or "local"
+    if choice == "ray" or choice.startswith("ray:"):
+        from sims.sweeps.ray_pool import RayPool
+
+        return RayPool(size, log_dir, choice.partition(":")[2] or "auto")  # type: ignore[return-value]
+    return Pool(size, log_dir)
+
+
 def _grace(limit: float) -> float:
     return min(KILL_GRACE, 1 + limit / 2)
 

@@ -136,7 +136,8 @@ def sweep(
     address: str | None = None,
     progress: SweepProgress | None = None,
 ) -> SweepOutcome:
-    """Run a planned sweep and write results.csv/results.jsonl into ``out_dir`` (if given)."""
+    """Run a planned sweep and write results.csv/results.jsonl into ``out_dir`` (if given).
+    ``executor``: a name (made and closed here) or an executor object (left open)."""
     import time
 
     chosen = make_executor(executor, workers, address)
@@ -145,7 +146,8 @@ def sweep(
         described = chosen.describe()
         records = run_all(settings, runs, chosen, progress)
     finally:
-        chosen.close()
+        if chosen is not executor:  # an executor the caller made is the caller's to close
+            chosen.close()
     csv_path = jsonl_path = None
     if out_dir is not None:
         csv_path, jsonl_path = results_files.write(Path(out_dir), records)

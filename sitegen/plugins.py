@@ -67,7 +67,12 @@ def _redirects(config: Config, cache: Path, _opts: RunOptions) -> Integration:
 INTEGRATIONS: tuple[Plugin, ...] = (
     Plugin("rosters", lambda c: bool(c.rosters), _rosters),
     Plugin("sims", lambda c: c.sims is not None, _sims),
-    Plugin("sweeps", lambda c: c.sims is not None and bool(c.sims.sweeps), _sweeps),
+    # also for sims.executor: ray alone: it sends the build's clips to Ray too
+    Plugin(
+        "sweeps",
+        lambda c: c.sims is not None and (bool(c.sims.sweeps) or c.sims.executor != "local"),
+        _sweeps,
+    ),
     Plugin("slides", lambda c: True, _slides),
     Plugin("blog", lambda c: True, _blog),
     # last: its redirects must not take a path another integration made

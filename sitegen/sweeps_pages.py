@@ -9,7 +9,8 @@ build that changed none of them runs nothing. Its runs go to ``sims.executor`` (
 processes, or Ray: the running cluster). A sweep never takes the site down: one that cannot
 run is a warning (an error under ``--strict``) and its page says why; failed runs are rows.
 The best runs (by ``key``, ``order``) are rendered as clips through :func:`sims.clips.render_clips`
-with the run's seed, into the same clip cache as the gallery's.
+with the run's seed, into the same clip cache as the gallery's. With ``sims.executor: ray`` the
+build's clips (the gallery's too) are rendered on Ray as well (``sims.clip_pool.EXECUTOR``).
 """
 
 from __future__ import annotations
@@ -109,6 +110,10 @@ class SweepsIntegration(Integration):
         self.partials = Partials(config)
         lang = config.language if config.language in WORDS else "en"
         self.words = WORDS[lang]
+        from sims import clip_pool
+
+        # the build's clips go to the same executor as its sweeps (made before any prepare)
+        clip_pool.EXECUTOR = self.sims.executor
 
     # -- inputs ------------------------------------------------------------------------------
     def _relative(self, path: Path) -> str:

@@ -131,7 +131,8 @@ def main(argv: list[str] | None = None, prog: str = "sitegen remote-api sweep") 
         print(f"[sweep] {len(planned)} runs of {args.script} on {described}", file=sys.stderr)
     shown = SweepProgress(len(planned), quiet=args.verbosity < 0)
     try:
-        outcome = runs.sweep(settings, planned, out, chosen, progress=shown)
+        with chosen:
+            outcome = runs.sweep(settings, planned, out, chosen, progress=shown)
     finally:
         shown.close()
     failed = outcome.failed

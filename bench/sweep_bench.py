@@ -1,0 +1,172 @@
+"""Sweep throughput: runs per second one after another in one process, and as a sweep on 1 and
+2 local workers and on a Ray cluster of two nodes started with ``ray start`` on this machine.
+
+    python bench/sweep_bench.py [--runs 60] [--seconds S] [--script PATH] [--no-ray]
+
+Prints each figure, the sweep's overhead per run over the one-process loop (the issue's limit:
+10%) and the scaling efficiency (speed-up over one worker / workers). The one-process loop runs
+the same runs through ``run_script(isolate=False)`` with the same final-state probe, so the
+difference is what a sweep adds: a worker process, a forked isolated child per run, the pipes.
+Every configuration's results.csv is checked to be byte-identical to the one-worker sweep's.
+Say how loaded the machine was (``uptime``) with the figures: on a shared machine they vary.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import os
+import secrets
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from sims import runs  # noqa: E402
+from sims.sweeps.one_run import FinalState, warm  # noqa: E402
+from sims.sweeps.plan import plan_runs  # noqa: E402
+
+
+def one_process(settings, planned) -> float:
+    """The same runs, one after another, in this process (no worker, no fork)."""
+    from sims.remote_api.runner import run_script
+
+    warm(settings.scene)
+    start = time.monotonic()
+    for run in planned:
+        sink = io.StringIO()
+        with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+            result = run_script(
+                settings.script,
+                settings.scene,
+                seed=run.seed,
+                timeout=settings.timeout,
+                argv=run.argv(),
+                trace=False,
+                probe=FinalState(settings.seconds),
+                isolate=False,
+                stderr=sink,
+            )
+        assert result.exit_code in (0, 124), result.message
+    return time.monotonic() - start
+
+
+def timed_sweep(settings, planned, out: Path, executor) -> tuple[float, bytes]:
+    start = time.monotonic()
+    outcome = runs.sweep(settings, planned, out, executor)
+    assert not outcome.failed, outcome.failed[0].error
+    return time.monotonic() - start, outcome.csv.read_bytes()
+
+
+def local(settings, planned, out: Path, workers: int) -> tuple[float, float, bytes]:
+    """(seconds to start the workers, seconds for the runs, results.csv): the workers are
+    started by a first small batch, then kept for the timed sweep (as an optimiser keeps them
+    between generations), so the per-run figure is not the start-up's."""
+    from sims.sweeps.local import LocalExecutor
+
+    with LocalExecutor(workers) as executor:
+        start = time.monotonic()
+        runs.run_all(settings, planned[:workers], executor)
+        started = time.monotonic() - start
+        took, csv = timed_sweep(settings, planned, out, executor)
+    return started, took, csv
+
+
+def ray_two_nodes(settings, planned, out: Path) -> tuple[float, bytes] | None:
+    try:
+        import ray
+    except ImportError:
+        print("ray: not installed (pip install ray): skipped")
+        return None
+    temp = tempfile.mkdtemp(prefix="rb", dir="/tmp")
+    env = {**os.environ, "RAY_AUTH_MODE": "token", "RAY_AUTH_TOKEN": secrets.token_hex(32)}
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    cli = [str(Path(sys.executable).with_name("ray")), "start", "--node-ip-address=127.0.0.1"]
+    cli += ["--num-cpus=1", "--disable-usage-stats"]
+    head = [*cli, "--head", f"--port={port}", "--include-dashboard=false", f"--temp-dir={temp}"]
+    try:
+        for command in (head, [*cli, f"--address=127.0.0.1:{port}"]):
+            subprocess.run(command, env=env, check=True, capture_output=True, timeout=300)
+        os.environ.update({k: env[k] for k in ("RAY_AUTH_MODE", "RAY_AUTH_TOKEN")})
+        ray.init(address=f"127.0.0.1:{port}", log_to_driver=False, _node_ip_address="127.0.0.1")
+        runs.sweep(settings, planned[:4], out / "warm", "ray")  # workers started, code imported
+        with runs.make_executor("ray") as executor:
+            return timed_sweep(settings, planned, out, executor)
+    finally:
+        with contextlib.suppress(Exception):
+            ray.shutdown()
+        _end(temp)
+
+
+def _end(temp: str) -> None:
+    """The Ray processes this bench started (their command lines name its folder) and below."""
+
+    def title(p: int) -> str:
+        try:
+            return (
+                Path(f"/proc/{p}/cmdline")
+                .read_bytes()
+                .replace(b"\0", b" ")
+                .decode("utf-8", "replace")
+            )
+        except OSError:
+            return ""
+
+    def parent(p: int) -> int:
+        try:
+            stat = Path(f"/proc/{p}/stat").read_bytes()
+            return int(stat[stat.rfind(b")") + 2 :].split()[1])
+        except (OSError, ValueError, IndexError):
+            return -1
+
+    pids = [int(p) for p in os.listdir("/proc") if p.isdigit()]
+    found = {p for p in pids if temp in title(p)}
+    while more := {p for p in pids if p not in found and parent(p) in found}:
+        found |= more
+    for p in found - {os.getpid()}:
+        with contextlib.suppress(OSError):
+            os.kill(p, signal.SIGKILL)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=60)
+    parser.add_argument("--seconds", type=float, help="cut each run after S simulated seconds")
+    parser.add_argument("--script", default=str(ROOT / "examples/sweeps/arm_random_reach.py"))
+    parser.add_argument("--no-ray", action="store_true")
+    args = parser.parse_args()
+    settings = runs.settings_for(args.script, "2w1a", seconds=args.seconds, label="bench")
+    planned = plan_runs(range(args.runs))
+    print(f"{args.runs} runs of {Path(args.script).name}; load: {os.getloadavg()[0]:.2f}")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp)
+        t0 = one_process(settings, planned)
+        print(f"one process, one after another: {args.runs / t0:.2f} runs/s ({t0:.1f} s)")
+        s1, t1, ref = local(settings, planned, out / "l1", 1)
+        print(f"sweep, 1 local worker: {args.runs / t1:.2f} runs/s ({t1:.1f} s, workers started "
+              f"in {s1:.1f} s); overhead per run {100 * (t1 / t0 - 1):+.1f}%")  # fmt: skip
+        s2, t2, csv2 = local(settings, planned, out / "l2", 2)
+        assert csv2 == ref, "2 workers gave other results"
+        print(f"sweep, 2 local workers: {args.runs / t2:.2f} runs/s ({t2:.1f} s, started in "
+              f"{s2:.1f} s); speed-up {t1 / t2:.2f}x, efficiency {50 * t1 / t2:.0f}%")  # fmt: skip
+        if not args.no_ray:
+            got = ray_two_nodes(settings, planned, out / "ray")
+            if got is not None:
+                t3, csv3 = got
+                assert csv3 == ref, "Ray gave other results"
+                print(f"sweep, Ray 2 nodes x 1 CPU: {args.runs / t3:.2f} runs/s ({t3:.1f} s); "
+                      f"speed-up {t1 / t3:.2f}x, efficiency {50 * t1 / t3:.0f}%")  # fmt: skip
+        print("results.csv identical across executors: yes")
+
+
+if __name__ == "__main__":
+    main()
