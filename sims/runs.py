@@ -114,10 +114,12 @@ def run_all(
     runs: Sequence[RunSpec],
     executor: Executor,
     progress: SweepProgress | None = None,
+    got: dict[int, RunRecord] | None = None,
 ) -> list[RunRecord]:
-    """Every run on ``executor``; records in run-index order."""
+    """Every run on ``executor``; records in run-index order. ``got`` fills as runs end (what
+    a caller still has when the sweep is interrupted)."""
     jobs = [settings.job(run) for run in runs]
-    got: dict[int, RunRecord] = {}
+    got = {} if got is None else got
     started = progress.started if progress is not None else None
     for record in executor.run(jobs, started):
         got[record["index"]] = RunRecord.from_json(record)
@@ -142,9 +144,14 @@ def sweep(
 
     chosen = make_executor(executor, workers, address)
     started = time.monotonic()
+    ended: dict[int, RunRecord] = {}
     try:
         described = chosen.describe()
-        records = run_all(settings, runs, chosen, progress)
+        records = run_all(settings, runs, chosen, progress, ended)
+    except KeyboardInterrupt:  # the rows of the runs that ended are kept
+        if out_dir is not None and ended:
+            results_files.write(Path(out_dir), list(ended.values()))
+        raise
     finally:
         if chosen is not executor:  # an executor the caller made is the caller's to close
             chosen.close()

@@ -72,27 +72,32 @@ def test_two_local_workers_same_bytes(settings, reference, tmp_path):
 
 
 class _KillOneWorker(SweepProgress):
-    """After ``at`` runs ended, SIGKILL a Ray worker that is running a task right then."""
+    """After ``at`` runs ended, SIGKILL a Ray worker that is running a task right then: a pid
+    that already returned a record (so a worker, not a run's own forked child) and whose title
+    says it is executing the sweep's task."""
 
     def __init__(self, total: int, at: int):
         super().__init__(total, stream=io.StringIO(), live=False)
         self.at, self.killed = at, None
         self.ended: set[int] = set()  # runs ended before the kill
+        self.workers: set[int] = set()
 
     def finished(self, record):
         super().finished(record)
-        if self.killed is None:
-            self.ended.add(record["index"])
-        if self.killed is None and self.done >= self.at:
-            deadline = time.monotonic() + 20
-            while self.killed is None and time.monotonic() < deadline:
-                busy = [p for p in _pids() if _title(p).startswith("ray::ray_execute")]
-                workers = [p for p in busy if not _title(_parent(p)).startswith("ray::ray_execute")]
-                if workers:
-                    self.killed = workers[0]
-                    os.kill(self.killed, signal.SIGKILL)
-                else:
-                    time.sleep(0.05)
+        if self.killed is not None:
+            return
+        self.ended.add(record["index"])
+        self.workers.add(int(record["host"].split(":")[1].split()[0]))
+        if self.done < self.at:
+            return
+        deadline = time.monotonic() + 20
+        while self.killed is None and time.monotonic() < deadline:
+            busy = [p for p in sorted(self.workers) if _title(p).startswith("ray::ray_execute")]
+            if busy:
+                self.killed = busy[0]
+                os.kill(self.killed, signal.SIGKILL)
+            else:
+                time.sleep(0.02)
 
 
 def test_ray_local_with_a_worker_killed_same_bytes(settings, reference, tmp_path):
@@ -109,6 +114,27 @@ def test_ray_local_with_a_worker_killed_same_bytes(settings, reference, tmp_path
     by_killed = [r.index for r in out.records if r.host.startswith(f"{_node()}:{killer.killed} ")]
     assert set(by_killed) <= killer.ended  # its run in progress was run again elsewhere
     assert out.csv.read_bytes() == reference
+
+
+def test_the_builds_clips_render_on_ray_to_the_same_bytes(tmp_path, monkeypatch):
+    """The clip executor seam: the same clip rendered by local workers and by Ray tasks."""
+    from sims import clip_pool
+    from sims.clips import ClipSpec, render_clips
+
+    script = Path(__file__).resolve().parents[1] / "examples" / "sweeps" / "arm_random_reach.py"
+    spec = ClipSpec("reach", str(script), 96, 64, 8, 1.5, 3, {"scene": "2w1a"}, kind="script")
+    local = render_clips([spec], tmp_path / "local")[0]
+    ray.shutdown()
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        monkeypatch.setattr(clip_pool, "EXECUTOR", "ray")
+        assert type(clip_pool.make_pool(2, tmp_path)).__name__ == "RayPool"
+        on_ray = render_clips([spec], tmp_path / "ray")[0]
+    finally:
+        ray.shutdown()
+    assert local.ok and on_ray.ok, (local.error, on_ray.error)
+    for kind in ("video", "poster", "csv"):
+        assert Path(on_ray.files[kind]).read_bytes() == Path(local.files[kind]).read_bytes()
 
 
 def test_ray_two_nodes_started_with_ray_start_same_bytes(settings, reference, tmp_path):

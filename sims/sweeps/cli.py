@@ -133,6 +133,11 @@ def main(argv: list[str] | None = None, prog: str = "sitegen remote-api sweep") 
     try:
         with chosen:
             outcome = runs.sweep(settings, planned, out, chosen, progress=shown)
+    except KeyboardInterrupt:
+        shown.close()
+        print(f"[sweep] interrupted: the rows of the {shown.done} runs that ended are in {out}",
+              file=sys.stderr)  # fmt: skip
+        return 130
     finally:
         shown.close()
     failed = outcome.failed

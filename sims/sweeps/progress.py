@@ -41,6 +41,7 @@ class SweepProgress:
         self.start = time.monotonic()
         self._shown = 0.0
         self._width = 0
+        self._closed = False
 
     def started(self, index: int) -> None:
         self.running.add(index)
@@ -91,8 +92,9 @@ class SweepProgress:
             self._shown = now
 
     def close(self) -> None:
-        if self.quiet:
+        if self.quiet or self._closed:
             return
+        self._closed = True
         self._show(force=True)
         if self.live:
             self.stream.write("\n")
