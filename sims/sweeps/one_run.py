@@ -105,6 +105,19 @@ class FinalState:
         world = sim.world
         if world is None:
             return self.state
+        try:
+            self._capture(world)
+        except Exception:  # noqa: BLE001 (a scene without a robot: no pose, the run goes on)
+            pass
+        if self.seconds is not None and sim.passes * sim.pass_dt >= self.seconds - 1e-9:
+            from sims.remote_api.clock import ScriptTimeout
+
+            self.state["cut"] = True
+            sim.clock.timed_out = True
+            raise ScriptTimeout(f"cut at {self.seconds:g} simulated seconds")
+        return self.state
+
+    def _capture(self, world: Any) -> None:
         from sims.quiet import pybullet as p
 
         model = world.model
@@ -125,13 +138,6 @@ class FinalState:
             quaternion=list(orn),
             joints={name: world.joint_position(name) for name in self._joints[1]},
         )
-        if self.seconds is not None and sim.passes * sim.pass_dt >= self.seconds - 1e-9:
-            from sims.remote_api.clock import ScriptTimeout
-
-            self.state["cut"] = True
-            sim.clock.timed_out = True
-            raise ScriptTimeout(f"cut at {self.seconds:g} simulated seconds")
-        return self.state
 
 
 def parse_value(text: str) -> Any:
