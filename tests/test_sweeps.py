@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import math
+import re
 import subprocess
 import sys
 import textwrap
@@ -192,3 +193,22 @@ def test_results_table_is_ordered_and_stable():
         "0,4,1,failed,1,0.0,0,1,,x.py:3: boom",
         '1,5,2,ok,0,0.0,0,0.1,"[1,2]",',
     ]
+
+
+def test_progress_shows_done_failed_running_rate_and_time_left():
+    from sims.sweeps.progress import SweepProgress
+
+    out = io.StringIO()
+    shown = SweepProgress(4, stream=out, live=False, every=0.0)
+    for i in range(3):
+        shown.started(i)
+    shown.finished({"index": 0, "status": "ok", "error": ""})
+    shown.finished({"index": 1, "status": "failed", "error": "x.py:3: ValueError: no"})
+    line = shown.line()
+    assert re.match(r"runs: 2/4 done, 1 failed, 1 running, [\d.]+ runs/s, about \d+ s left$", line)
+    assert "run 1 failed: x.py:3: ValueError: no" in out.getvalue().splitlines()
+    shown.finished({"index": 2, "status": "cut", "error": ""})
+    shown.started(3)
+    shown.finished({"index": 3, "status": "ok", "error": ""})
+    shown.close()
+    assert re.search(r"runs: 4/4 done, 1 failed, 0 running, [\d.]+ runs/s, \d+ s$", out.getvalue())

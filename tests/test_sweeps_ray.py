@@ -26,6 +26,7 @@ from pathlib import Path
 import pytest
 
 from sims import runs
+from sims.sweeps import results
 from sims.sweeps.plan import plan_runs
 from sims.sweeps.progress import SweepProgress
 
@@ -138,32 +139,30 @@ def test_the_builds_clips_render_on_ray_to_the_same_bytes(tmp_path, monkeypatch)
 
 
 def test_ray_two_nodes_started_with_ray_start_same_bytes(settings, reference, tmp_path):
-    ray.shutdown()
+    """Two nodes of one CPU each, started with `ray start` on loopback; the sweep is the CLI's
+    (`--ray ADDRESS`), in its own process, as a user would run it."""
     temp = tempfile.mkdtemp(prefix="rt", dir="/tmp")  # Ray's socket paths must stay short
     env = {**os.environ, "RAY_AUTH_MODE": "token", "RAY_AUTH_TOKEN": secrets.token_hex(32)}
     port = _free_port()
     cli = [str(Path(sys.executable).with_name("ray")), "start", "--node-ip-address=127.0.0.1"]
     cli += ["--num-cpus=1", "--disable-usage-stats"]
     head = [*cli, "--head", f"--port={port}", "--include-dashboard=false", f"--temp-dir={temp}"]
+    sweep = [sys.executable, "-m", "sitegen", "remote-api", "sweep", settings.script]
+    sweep += ["--scene", "2w1a", "--seeds", f"0:{RUNS}", "--seconds", str(CUT), "-q"]
+    sweep += ["--ray", f"127.0.0.1:{port}", "--out", str(tmp_path)]
     try:
         for command in (head, [*cli, f"--address=127.0.0.1:{port}"]):
             subprocess.run(command, env=env, check=True, capture_output=True, timeout=240)
-        saved = {k: os.environ.get(k) for k in ("RAY_AUTH_MODE", "RAY_AUTH_TOKEN")}
-        os.environ.update({k: env[k] for k in saved})
-        try:
-            ray.init(address=f"127.0.0.1:{port}", log_to_driver=False, _node_ip_address="127.0.0.1")
-            assert len([n for n in ray.nodes() if n["Alive"]]) == 2
-            out = runs.sweep(settings, plan_runs(range(RUNS)), tmp_path, "ray")
-        finally:
-            ray.shutdown()
-            for k, v in saved.items():
-                os.environ.pop(k, None) if v is None else os.environ.__setitem__(k, v)
+        done = subprocess.run(sweep, env=env, capture_output=True, text=True, timeout=1800)
     finally:
         _end_processes_of(temp)
         shutil.rmtree(temp, ignore_errors=True)
-    nodes = {r.host.rpartition(" node ")[2] for r in out.records}
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "on ray, 2 nodes, 2 CPUs" in done.stderr
+    records = results.read_jsonl(tmp_path / results.JSONL_NAME)
+    nodes = {r.host.rpartition(" node ")[2] for r in records}
     assert len(nodes) == 2, f"runs ran on {nodes}: both nodes should take part"
-    assert out.csv.read_bytes() == reference
+    assert (tmp_path / results.CSV_NAME).read_bytes() == reference
 
 
 # -- processes ---------------------------------------------------------------------------------

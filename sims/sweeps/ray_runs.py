@@ -63,6 +63,8 @@ class RayExecutor:
             options: dict[str, Any] = {"log_to_driver": False, "include_dashboard": False}
             if self.address:
                 options["address"] = self.address
+                if self.address.split(":")[0] in ("127.0.0.1", "localhost"):
+                    options["_node_ip_address"] = "127.0.0.1"  # nodes started on loopback
             try:
                 ray.init(**options)
             except ConnectionError as exc:
