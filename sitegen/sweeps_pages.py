@@ -165,6 +165,9 @@ class SweepsIntegration(Integration):
         for i, sweep in enumerate(self.sims.sweeps):
             try:
                 self.records[sweep.name] = self._run(sweep)
+            except _NotYet:  # a quick build (sitegen serve's first): no warning, run later
+                self.failed[sweep.name] = self.words["not_run"]
+                continue
             except Exception as exc:  # never the whole site: this sweep's page says why
                 text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
                 self.failed[sweep.name] = text
@@ -185,7 +188,7 @@ class SweepsIntegration(Integration):
         if (entry / results.JSONL_NAME).is_file():
             return results.read_jsonl(entry / results.JSONL_NAME)
         if not getattr(self.opts, "render_clips", True):
-            raise RuntimeError(self.words["not_run"])
+            raise _NotYet
         settings = runs.settings_for(
             sweep.script,
             self._scene(sweep),
@@ -366,6 +369,10 @@ class SweepsIntegration(Integration):
             "width": self.sims.width,
             "height": self.sims.height,
         }
+
+
+class _NotYet(Exception):
+    """The sweep is not in the cache and this build runs nothing (BuildOptions.render_clips)."""
 
 
 def _ranked(records: list[Any], sweep: SweepConfig) -> list[Any]:
