@@ -212,3 +212,21 @@ def test_progress_shows_done_failed_running_rate_and_time_left():
     shown.finished({"index": 3, "status": "ok", "error": ""})
     shown.close()
     assert re.search(r"runs: 4/4 done, 1 failed, 0 running, [\d.]+ runs/s, \d+ s$", out.getvalue())
+
+
+def test_a_small_genetic_algorithm_evaluates_its_population_in_parallel():
+    """examples/sweeps/ga_crawl.py through sims.runs.evaluate: every candidate is a real run
+    (the distance it crawled), elitism never loses the best, and the search is reproducible."""
+    import importlib.util
+
+    path = ROOT / "examples" / "sweeps" / "ga_crawl.py"
+    spec = importlib.util.spec_from_file_location("ga_crawl", path)
+    ga = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ga)
+    with runs.make_executor("local", workers=2) as executor:
+        history, scored = ga.search(4, 2, executor, seed=3, strokes=1)
+        again = runs.evaluate(ga.SCRIPT, "2w1a", [{**history[-1][2], "strokes": 1}], executor)
+    assert len(history) == 2 and len(scored) == 4
+    assert history[1][1] >= history[0][1] > 0.0
+    assert all(0.0 <= fitness < 1.0 for fitness, _, _ in scored)
+    assert again[0].ok and again[0].results["distance"] == history[-1][1]
