@@ -34,8 +34,10 @@ from sims.sweeps.one_run import FinalState, warm  # noqa: E402
 from sims.sweeps.plan import plan_runs  # noqa: E402
 
 
-def one_process(settings, planned) -> tuple[float, float]:
-    """The same runs, one after another, in this process (no worker, no fork): (wall s, CPU s)."""
+def one_process(settings, planned, isolate: bool = False) -> tuple[float, float]:
+    """The same runs, one after another, in this process: (wall s, CPU s). ``isolate=False``:
+    no fork at all; True: each run isolated by run_script as `remote-api run` isolates it (a
+    user's own loop over run_script)."""
     from sims.remote_api.runner import run_script
 
     warm(settings.scene)
@@ -51,7 +53,7 @@ def one_process(settings, planned) -> tuple[float, float]:
                 argv=run.argv(),
                 trace=False,
                 probe=FinalState(settings.seconds),
-                isolate=False,
+                isolate=isolate,
                 stderr=sink,
             )
         assert result.exit_code in (0, 124), result.message
@@ -60,7 +62,7 @@ def one_process(settings, planned) -> tuple[float, float]:
 
 def _own_cpu() -> float:
     t = os.times()
-    return t.user + t.system
+    return t.user + t.system + t.children_user + t.children_system
 
 
 def _tree_cpu(pids: list[int]) -> float:
@@ -178,17 +180,22 @@ def main() -> None:
         ref = None
         for r in range(args.rounds):
             keep("one", *one_process(settings, planned))
+            keep("isolated", *one_process(settings, planned, isolate=True))
             for workers in (1, 2):
                 wall, cpu, csv = local(settings, planned, out / f"l{workers}-{r}", workers)
                 assert ref is None or csv == ref, f"{workers} workers gave other results"
                 ref = csv
                 keep(f"local{workers}", wall, cpu)
         (t0, c0), (t1, c1), (t2, _) = best["one"], best["local1"], best["local2"]
-        print(f"one process, one after another: {n / t0:.2f} runs/s ({t0:.1f} s, "
+        ti, ci = best["isolated"]
+        print(f"one process, one after another, not isolated: {n / t0:.2f} runs/s ({t0:.1f} s, "
               f"{c0 / n:.3f} CPU s a run)")  # fmt: skip
+        print(f"one process, one after another, each isolated by run_script: {n / ti:.2f} "
+              f"runs/s ({ti:.1f} s, {ci / n:.3f} CPU s a run)")  # fmt: skip
         print(f"sweep, 1 local worker: {n / t1:.2f} runs/s ({t1:.1f} s, {c1 / n:.3f} CPU s a "
-              f"run); overhead per run: wall {100 * (t1 / t0 - 1):+.1f}%, "
-              f"CPU {100 * (c1 / c0 - 1):+.1f}%")  # fmt: skip
+              f"run); overhead per run over not isolated: wall {100 * (t1 / t0 - 1):+.1f}%, "
+              f"CPU {100 * (c1 / c0 - 1):+.1f}%; over isolated: wall "
+              f"{100 * (t1 / ti - 1):+.1f}%, CPU {100 * (c1 / ci - 1):+.1f}%")  # fmt: skip
         print(f"sweep, 2 local workers: {n / t2:.2f} runs/s ({t2:.1f} s); speed-up over 1 "
               f"worker {t1 / t2:.2f}x, efficiency {50 * t1 / t2:.0f}%")  # fmt: skip
         if not args.no_ray:

@@ -210,11 +210,16 @@ def warm(scene: str | None) -> None:
     import sims.remote_api.runner  # noqa: F401
     import sims.remote_api.zmq.client  # noqa: F401
     from sims.quiet import pybullet  # noqa: F401
-    from sims.scene.resolve import open_scene
 
     if scene is not None:
         with contextlib.suppress(Exception):  # a bad scene is reported by the run itself
-            open_scene(scene)
+            from sims.world import World
+
+            World(scene).close()  # builders' caches filled once, not per run
+    import gc
+
+    gc.collect()
+    gc.freeze()  # a forked run's collections then leave the worker's pages alone (no copies)
 
 
 def execute(job: dict[str, Any]) -> dict[str, Any]:
