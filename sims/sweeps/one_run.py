@@ -27,6 +27,7 @@ import json
 import math
 import os
 import re
+import sys
 import tempfile
 import time
 from dataclasses import asdict, dataclass, field
@@ -197,6 +198,17 @@ def _environment(env: dict[str, str], cwd: str):
                 os.environ[k] = v
 
 
+@contextlib.contextmanager
+def _no_stdin():
+    """``input()`` in a run reads an empty stream (EOF), as with `remote-api run` without
+    ``--stdin``; never the worker's own job channel."""
+    saved, sys.stdin = sys.stdin, io.StringIO("")
+    try:
+        yield
+    finally:
+        sys.stdin = saved
+
+
 _warm: set[str | None] = set()
 
 
@@ -238,6 +250,7 @@ def execute(job: dict[str, Any]) -> dict[str, Any]:
             _environment(env, job["cwd"]),
             contextlib.redirect_stdout(out),
             contextlib.redirect_stderr(err),
+            _no_stdin(),
         ):
             try:
                 result = run_script(
