@@ -107,7 +107,9 @@ def scatter(
     return _frame(title, xl, yl, ax, body)
 
 
-def histogram(values: Sequence[float], title: str, label: str, bins: int = 20) -> str:
+def histogram(
+    values: Sequence[float], title: str, label: str, counts: str = "runs", bins: int = 20
+) -> str:
     if not values:
         return ""
     lo, hi = min(values), max(values)
@@ -128,4 +130,4 @@ def histogram(values: Sequence[float], title: str, label: str, bins: int = 20) -
                 f'height="{ax.py(0.0) - y:.1f}" style="fill:{ACCENT};fill-opacity:.8">'
                 f"<title>{_num(a)} – {_num(b)}: {n}</title></rect>"
             )
-    return _frame(title, label, "runs", ax, body)
+    return _frame(title, label, counts, ax, body)

@@ -37,6 +37,7 @@ TABLE_ROWS = 200  # rows shown on the page; results.csv has every run
 WORDS = {
     "en": {
         "runs": "runs",
+        "run": "run",
         "failed": "failed",
         "best": "Best runs by",
         "table": "Runs",
@@ -52,6 +53,7 @@ WORDS = {
     },
     "zh-TW": {
         "runs": "次執行",
+        "run": "執行",
         "failed": "失敗",
         "best": "最佳執行, 依",
         "table": "所有執行",
@@ -349,7 +351,10 @@ class SweepsIntegration(Integration):
         view["scatter"] = trusted(scatter(points, best_ids, w["where"], sweep.x, sweep.y))
         values = [v for v in (key_value(r, sweep.key) for r in records if r.ok) if v is not None]
         title = f"{w['spread']} {sweep.key}"
-        view["histogram"] = trusted(histogram(values, title, sweep.key or "")) if values else ""
+        counts = w["runs"].strip()
+        view["histogram"] = (
+            trusted(histogram(values, title, sweep.key or "", counts)) if values else ""
+        )
         view["plots_title"] = f"{sweep.x} / {sweep.y}"
         view["toc"] = [("sweep-plots", view["plots_title"]), ("sweep-runs", w["table"])]
         if view["best"]:
