@@ -3,6 +3,7 @@ results.csv and results.jsonl, and add a page per sweep with a sortable table, a
 and a histogram (inline SVG in the theme's colours, sitegen/sweep_plots.py) and the best runs
 as clips.
 
+The site's results.jsonl leaves out wall seconds and hosts, so a rebuilt site has the same bytes.
 A sweep builds like a clip: cached by the content of its inputs (the script's bytes, the scene,
 the argument file, the planned runs and seeds, the limits, and the sims package's code), so a
 build that changed none of them runs nothing. Its runs go to ``sims.executor`` (local worker
@@ -224,7 +225,7 @@ class SweepsIntegration(Integration):
         folder.mkdir(parents=True, exist_ok=True)
         for name, text in (
             (results.CSV_NAME, results.csv_text(records)),
-            (results.JSONL_NAME, results.jsonl_text(records)),
+            (results.JSONL_NAME, results.jsonl_text(records, varying=False)),
         ):
             path = folder / name
             if not path.is_file() or path.read_text(encoding="utf-8") != text:

@@ -52,6 +52,8 @@ def test_a_sweep_builds_as_a_page_with_table_plots_and_its_best_run_as_a_clip(tm
     last = (clip / "data.csv").read_text(encoding="utf-8").strip().splitlines()[-1].split(",")
     assert abs(float(last[1]) - float(best["final_x"])) < 0.01
     assert abs(float(last[2]) - float(best["final_y"])) < 0.01
+    published = (out / "sweeps/reach/results.jsonl").read_text(encoding="utf-8")
+    assert published.count("\n") == 4 and "wall_seconds" not in published  # same bytes each build
     # built again: nothing runs (cached by the content of the inputs), the same bytes
     before = (out / "sweeps/reach/results.csv").read_bytes()
     lines.clear()

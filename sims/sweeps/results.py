@@ -101,10 +101,19 @@ def csv_text(records: list[RunRecord]) -> str:
     return buffer.getvalue()
 
 
-def jsonl_text(records: list[RunRecord]) -> str:
-    return "".join(
-        json.dumps(r.to_json(), ensure_ascii=False, separators=(",", ":")) + "\n" for r in records
-    )
+VARYING = ("wall_seconds", "attempts", "host")  # what differs from one run of a sweep to the next
+
+
+def jsonl_text(records: list[RunRecord], varying: bool = True) -> str:
+    """Every record whole; ``varying=False`` leaves out :data:`VARYING` (a site's copy, which
+    must be the same bytes whenever the same sweep is built)."""
+    lines = []
+    for r in sorted(records, key=lambda r: r.index):
+        data = r.to_json()
+        if not varying:
+            data = {k: v for k, v in data.items() if k not in VARYING}
+        lines.append(json.dumps(data, ensure_ascii=False, separators=(",", ":")) + "\n")
+    return "".join(lines)
 
 
 def write(out_dir: Path, records: list[RunRecord]) -> tuple[Path, Path]:
