@@ -108,7 +108,7 @@ def scatter(
 
 
 def histogram(
-    values: Sequence[float], title: str, label: str, counts: str = "runs", bins: int = 20
+    values: Sequence[float], title: str, label: str, ylabel: str = "runs", bins: int = 20
 ) -> str:
     if not values:
         return ""
@@ -130,4 +130,4 @@ def histogram(
                 f'height="{ax.py(0.0) - y:.1f}" style="fill:{ACCENT};fill-opacity:.8">'
                 f"<title>{_num(a)} – {_num(b)}: {n}</title></rect>"
             )
-    return _frame(title, label, counts, ax, body)
+    return _frame(title, label, ylabel, ax, body)
