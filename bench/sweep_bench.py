@@ -18,6 +18,7 @@ import contextlib
 import io
 import os
 import secrets
+import shutil
 import signal
 import socket
 import subprocess
@@ -122,6 +123,7 @@ def ray_two_nodes(settings, planned, out: Path) -> tuple[float, bytes] | None:
         with contextlib.suppress(Exception):
             ray.shutdown()
         _end(temp)
+        shutil.rmtree(temp, ignore_errors=True)
 
 
 def _end(temp: str) -> None:
