@@ -13,6 +13,13 @@ import os
 import sys
 from typing import Any
 
+# One BLAS thread per worker, set before NumPy loads OpenBLAS: a run is one core's work, and
+# OpenBLAS's own threads (one per core, spinning while they wait) in every worker and every
+# forked run made two workers slower than one on two cores. Ray does the same for a task of
+# one CPU (OMP_NUM_THREADS=1).
+for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_name] = "1"
+
 
 def serve() -> None:
     channel = os.fdopen(os.dup(1), "w", buffering=1, encoding="utf-8")
