@@ -29,6 +29,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_name] = "1"  # as in the sweep's workers (sims/sweeps/worker.py): same baseline
 
 from sims import runs  # noqa: E402
 from sims.sweeps.one_run import FinalState, warm  # noqa: E402
