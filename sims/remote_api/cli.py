@@ -129,7 +129,9 @@ def _parser(prog: str) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
     if (given := list(sys.argv[1:] if argv is None else argv))[:1] == ["sweep"]:
-        return __import__("sims.sweeps.cli").sweeps.cli.main(given[1:], f"{prog} sweep")
+        from sims.sweeps.cli import main as sweep  # its own parser: sims/sweeps/cli.py
+
+        return sweep(given[1:], f"{prog} sweep")
     args = _parser(prog).parse_args(argv)
     if args.command == "functions":
         return _functions()  # -q/-v: the lists are the command's data, printed either way
