@@ -62,10 +62,12 @@ def worker_env() -> dict[str, str]:
 
 
 class Pool:
-    """Up to ``size`` workers; logs go to ``log_dir``."""
+    """Up to ``size`` workers; logs go to ``log_dir``. ``module``: what each worker runs
+    (``python -m MODULE``, speaking the protocol above; sweeps use sims.sweeps.worker)."""
 
-    def __init__(self, size: int, log_dir: Path):
+    def __init__(self, size: int, log_dir: Path, module: str = "sims.clip_worker"):
         self.size = size
+        self.module = module
         self.log_dir = log_dir
         self.env = worker_env()
         self.workers: list[Worker] = []
@@ -77,7 +79,7 @@ class Pool:
         log = self.log_dir / f"worker-{self._spawned}.log"
         with open(log, "wb") as err:
             process = subprocess.Popen(
-                [sys.executable, "-m", "sims.clip_worker"],
+                [sys.executable, "-m", self.module],
                 stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE,
                 stderr=err,
@@ -180,6 +182,22 @@ class Pool:
                 if not worker.ready:
                     error = f"crashed: its worker did not start within {START_LIMIT:g} s"
                 yield job, {"ok": False, "error": error, "killed": True}
+
+
+#: What runs clip jobs: None or "local", these worker processes; "ray" or "ray:ADDRESS", Ray
+#: tasks (sims/sweeps/ray_pool.py). Set by the build from ``sims.executor`` (sitegen/
+#: sweeps_pages.py); ``$SITEGEN_CLIP_EXECUTOR`` when it is None.
+EXECUTOR: str | None = None
+
+
+def make_pool(size: int, log_dir: Path) -> Pool:
+    """The pool for one render_clips call, as :data:`EXECUTOR` says."""
+    choice = EXECUTOR or os.environ.get("SITEGEN_CLIP_EXECUTOR") or "local"
+    if choice == "ray" or choice.startswith("ray:"):
+        from sims.sweeps.ray_pool import RayPool
+
+        return RayPool(size, log_dir, choice.partition(":")[2] or "auto")  # type: ignore[return-value]
+    return Pool(size, log_dir)
 
 
 def _grace(limit: float) -> float:

@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from sims.clip_pool import Job, Pool
+from sims.clip_pool import Job, make_pool
 from sims.clip_spec import ClipSpec
 from sims.clip_worker import RANGE_FRAMES, range_starts
 
@@ -95,7 +95,7 @@ def run_clips(todo: list[ClipRun], jobs: int | None, notify: Progress) -> Iterat
 
     workers = max(1, min(jobs or os.cpu_count() or 1, sum(c.total for c in todo)))
     log_dir = Path(tempfile.mkdtemp(prefix=".workers-", dir=todo[0].tmp.parent))
-    pool = Pool(workers, log_dir)
+    pool = make_pool(workers, log_dir)  # local workers or Ray (sims.clip_pool.EXECUTOR)
     try:
         for job, outcome in pool.run(next_job, lambda: bool(simulations or ready), on_progress):
             clip: ClipRun = job.owner

@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sitegen.errors import BuildError, Diagnostic
+from sitegen.sweep_config import EXECUTORS, SweepConfig, parse_sweeps
 
 if TYPE_CHECKING:
     # YAML is imported by the functions that parse a sitegen.yml: a folder without one (and
@@ -77,6 +78,8 @@ class SimsConfig:
     timeout: float = 600.0
     clips: tuple[ClipConfig, ...] = ()
     formats: tuple[str, ...] = ("replay",)  # every clip's formats: replay and/or video
+    executor: str = "local"  # sweeps' runs: local worker processes or ray (docs/sweeps.md)
+    sweeps: tuple[SweepConfig, ...] = ()  # sitegen/sweep_config.py
 
 
 @dataclass(frozen=True)
@@ -187,6 +190,8 @@ _SIMS = {
     "timeout": "num",
     "clips": "list",
     "formats": "list",
+    "executor": "str",
+    "sweeps": "list",
 }
 _CLIP = {
     "name": "str",
@@ -361,8 +366,13 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
     nodes = ck.keys(node, "sims", _SIMS)
     v = _values(ck, nodes, _SIMS, "sims.")
     kwargs: dict[str, Any] = {
-        k: v[k] for k in ("section", "title", "fps", "jobs", "timeout") if k in v
+        k: v[k] for k in ("section", "title", "fps", "jobs", "timeout", "executor") if k in v
     }
+    if v.get("executor", "local") not in EXECUTORS:
+        ck.fail(nodes["executor"], "sims.executor", f"must be one of {', '.join(EXECUTORS)}")
+        del kwargs["executor"]
+    if "sweeps" in nodes:
+        kwargs["sweeps"] = parse_sweeps(ck, nodes["sweeps"], root)
     if "timeout" in v and not 0 < v["timeout"] <= MAX_TIMEOUT:
         ck.fail(nodes["timeout"], "sims.timeout", TIMEOUT_RULE)
         del kwargs["timeout"]

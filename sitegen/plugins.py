@@ -40,6 +40,12 @@ def _sims(config: Config, cache: Path, opts: RunOptions) -> Integration:
     return SimsIntegration(config, cache, opts)
 
 
+def _sweeps(config: Config, cache: Path, opts: RunOptions) -> Integration:
+    from sitegen.sweeps_pages import SweepsIntegration
+
+    return SweepsIntegration(config, cache, opts)
+
+
 def _slides(config: Config, _cache: Path, _opts: RunOptions) -> Integration:
     from sitegen.slides import SlidesIntegration
 
@@ -61,6 +67,12 @@ def _redirects(config: Config, cache: Path, _opts: RunOptions) -> Integration:
 INTEGRATIONS: tuple[Plugin, ...] = (
     Plugin("rosters", lambda c: bool(c.rosters), _rosters),
     Plugin("sims", lambda c: c.sims is not None, _sims),
+    # also for sims.executor: ray alone: it sends the build's clips to Ray too
+    Plugin(
+        "sweeps",
+        lambda c: c.sims is not None and (bool(c.sims.sweeps) or c.sims.executor != "local"),
+        _sweeps,
+    ),
     Plugin("slides", lambda c: True, _slides),
     Plugin("blog", lambda c: True, _blog),
     # last: its redirects must not take a path another integration made

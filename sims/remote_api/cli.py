@@ -158,6 +158,7 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         "--for", dest="duration", type=_positive, metavar="S", help="stop after S wall seconds"
     )
     add_verbosity(serve, "nothing but errors", "also each client")
+    sub.add_parser("sweep", help="run a script many times: seeds, grids (sims/sweeps/cli.py)")
     add_verbosity(
         sub.add_parser("functions", help="list the emulated and the unsupported simx functions"),
         "accepted as on every command; the lists are always printed",
@@ -186,7 +187,12 @@ def _positive(text: str) -> float:
 
 
 def main(argv: list[str] | None = None, prog: str = "sitegen remote-api") -> int:
-    own, extra = split_script_args(list(sys.argv[1:] if argv is None else argv))
+    given = list(sys.argv[1:] if argv is None else argv)
+    if given[:1] == ["sweep"]:
+        from sims.sweeps.cli import main as sweep  # its own parser: sims/sweeps/cli.py
+
+        return sweep(given[1:], f"{prog} sweep")
+    own, extra = split_script_args(given)
     args = _parser(prog).parse_args(own)
     if args.command == "run":
         args.script_args = [*args.script_args, *extra]

@@ -73,6 +73,7 @@ class RunResult:
     isolation: str = "in-process"  # how the run was fenced in (see isolate.py)
     missing: list[Any] = field(default_factory=list)  # client.Missing: names/functions lacking
     keys_ended: bool = False  # ended by the end of its key file (--keys), as planned
+    probe: Any = None  # what ``probe(simulator)`` returned at the last pass (run_script)
 
     @property
     def ok(self) -> bool:
@@ -136,6 +137,7 @@ def run_script(
     isolate: bool = True,
     python: str | None = None,
     speed: float = 1.0,
+    probe: Callable[[Any], Any] | None = None,
 ) -> RunResult:
     """Run ``script`` against ``scene``; see the module docstring. ``world``: drive this World
     (not closed here) instead of creating one; ``on_pass(simulator)`` runs after every pass.
@@ -149,7 +151,12 @@ def run_script(
     in this process (the clip recorder's worker process is itself killable).
 
     ``python``: run the script in that interpreter against a served scene, over loopback
-    sockets on the wall clock (``speed`` scales it); see foreign.py."""
+    sockets on the wall clock (``speed`` scales it); see foreign.py.
+
+    ``probe(simulator)`` is called after every pass where the script runs (in the isolated
+    child too: it is forked, so any function works, but it sees the child's memory); its
+    last return value comes back as ``RunResult.probe`` (picklable). Sweeps read the final
+    state of the scene through it (sims/sweeps/one_run.py)."""
     label = str(script)
     for name, value in (("timeout", timeout), ("wall_timeout", wall_timeout)):
         if value is not None and not 0 < value <= MAX_TIMEOUT:
@@ -205,6 +212,8 @@ def run_script(
         sim.pass_observers.append(lambda s: result.samples.append(_sample(s)))
     if on_pass is not None:
         sim.pass_observers.append(on_pass)
+    if probe is not None:
+        sim.pass_observers.append(lambda s: setattr(result, "probe", probe(s)))
     previous = set_session(session)
     tid = threading.get_ident()
     started = real_monotonic()
