@@ -106,7 +106,8 @@ def test_the_wheel_in_a_fresh_environment_makes_a_site_that_builds(wheel, tmp_pa
     run(["sitegen", "check", "site"], tmp_path / "s", env)
     site = tmp_path / "s/site"
     assert "assets/style.css" in (site / "index.html").read_text(encoding="utf-8")
-    assert list(site.glob("clips/*/*.webm")), "no clip rendered"
+    # the starter's clip is a replay (sims.formats: [replay]): the glTF and its page script
+    assert list(site.glob("clips/*/replay.glb")), "no clip rendered"
 
 
 def test_the_starters_workflow_steps_pass_from_the_wheel(wheel, tmp_path):

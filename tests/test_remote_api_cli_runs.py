@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 from sims.remote_api.cli import main, split_script_args
-from sims.remote_api.runner import RunResult, run_script, speed_note
+from sims.remote_api.run_result import RunResult, speed_note
+from sims.remote_api.runner import run_script
 
 REPO = Path(__file__).resolve().parents[1]
 

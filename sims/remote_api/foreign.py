@@ -108,7 +108,7 @@ def run_foreign(
     scene_options: dict[str, Any] | None = None,
 ):
     """Run ``script`` in ``python`` against a server holding ``scene``; returns a RunResult."""
-    from .runner import RunResult
+    from .run_result import RunResult
 
     label = str(script)
     path = Path(script).resolve()
@@ -126,10 +126,9 @@ def run_foreign(
     stderr = _Locked(stderr, lock) if stderr is not None else sys.stderr
     try:
         with contextlib.ExitStack() as stack:
-            from . import runner
-            from .isolate import thread_network_namespace
+            from .isolate import fenced, thread_network_namespace
 
-            if not runner._in_child:  # a clip's run in the recorder's process: this thread,
+            if fenced() is None:  # a run in an unfenced process (a clip's recorder): this thread,
                 # the server's threads and the script's process get a namespace of their own
                 if stack.enter_context(thread_network_namespace()):
                     result.isolation = "own Python, over loopback in its own network namespace"
@@ -295,6 +294,6 @@ def _guarded_world(world: Any, stopped: list):
 
 
 def _sample(sim: Any):
-    from .runner import _sample as sample
+    from .run_result import sample_of
 
-    return sample(sim)
+    return sample_of(sim)

@@ -270,7 +270,9 @@ def simxCheckDistance(clientID, entity1, entity2, operationMode):
 
     def shape(v):  # sim.checkDistance: (result, [p1 xyz, p2 xyz, distance], ...)
         data = v[1] if isinstance(v, (list, tuple)) and len(v) > 1 else v
-        return (f32(data[6] if isinstance(data, (list, tuple)) and len(data) > 6 else data),)
+        if isinstance(data, (list, tuple)):  # no pair of shapes to measure: no distance
+            data = data[6] if len(data) > 6 else 0.0
+        return (f32(data),)
 
     code, out = _call(
         clientID, operationMode, ("check_distance", a, b), "sim.checkDistance", [a, b, 0.0],
