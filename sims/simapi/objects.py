@@ -458,18 +458,24 @@ def set_configuration_tree(c: Caller, data: Any) -> int:
 
 def _scene_file(c: Caller, name: str, kinds: tuple[str, ...]) -> str:
     """A model or scene file a script names: relative to the scene's folder, and only inside
-    it (scripts never reach other files: the same rule as ``require``)."""
+    it or inside CoppeliaSim's scenes folder (``sim.stringparam_scenedefaultdir``: the package's
+    bundled scenes); scripts never reach other files (the same rule as ``require``). A missing
+    ``X.ttt`` with ``X.simscene.xml`` beside it loads that (the XML form of the same scene)."""
     from pathlib import Path
 
+    from sims.scene.resolve import BUNDLED_SCENES
+
     source = str(getattr(getattr(c.world, "source", None), "source", "") or "")
-    if not source:
-        raise SimError("the scene has no folder to load files from")
-    folder = Path(source).resolve().parent
-    path = (folder / name).resolve()
-    try:
-        path.relative_to(folder)
-    except ValueError:
+    folders = [BUNDLED_SCENES.resolve()]
+    if source and Path(source).exists():
+        folders.insert(0, Path(source).resolve().parent)
+    base = folders[0]
+    path = (base / name).resolve()
+    if not any(path.is_relative_to(f) for f in folders):
         raise SimError(f"{name!r}: only files beside the scene file can be loaded") from None
+    if not path.is_file() and path.suffix in (".ttt", ".ttm"):
+        xml = path.with_suffix(".simscene.xml" if path.suffix == ".ttt" else ".simmodel.xml")
+        path = xml if xml.is_file() else path
     if not path.is_file() or not path.name.endswith(kinds):
         raise SimError(f"{name!r}: no such model or scene file beside the scene")
     return str(path)

@@ -118,7 +118,12 @@ def set_bool_param(c: Caller, pid: Any, value: Any) -> int:
 
 
 def get_string_param(c: Caller, pid: Any) -> str:
+    """String parameters: the scene's path and name, and as CoppeliaSim's own scenes folder
+    (``stringparam_scenedefaultdir``) the package's bundled scenes, where the scenes matching
+    CoppeliaSim's ZeroMQ examples live (``messaging/...``)."""
     from pathlib import Path
+
+    from sims.scene.resolve import BUNDLED_SCENES
 
     key = integer(pid, 1)
     got = c.store.params.get(("string", key))
@@ -129,7 +134,7 @@ def get_string_param(c: Caller, pid: Any) -> str:
         STR_SCENE_PATH_AND_NAME: str(source),
         STR_SCENE_NAME: source.name,
         STR_SCENE_PATH: str(source.parent),
-        STR_SCENE_DIR: str(source.parent),
+        STR_SCENE_DIR: str(BUNDLED_SCENES),
     }
     if key not in values:
         raise SimError(f"parameter {key} is not emulated")
