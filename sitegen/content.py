@@ -58,10 +58,6 @@ class SourcePage(DeferredText):
     text_key: str = field(default="", init=False, repr=False, compare=False)
     heading: tuple | None = field(default=None, init=False, repr=False, compare=False)
 
-    @property
-    def display(self) -> str:
-        return str(self.rel)
-
 
 @dataclass
 class SourceAsset:
