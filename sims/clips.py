@@ -51,7 +51,7 @@ from typing import Any
 
 from sims import clip_cache
 from sims.clip_schedule import ClipEvent, ClipRun, Progress, run_clips
-from sims.clip_spec import FORMATS, ClipSpec
+from sims.clip_spec import DEFAULT_CAMERA, FORMATS, ClipSpec
 from sims.recording import RecordingPlan, frame_count
 from sims.render import requested_renderer
 from sims.sources import load_plan_function, source_target
@@ -92,7 +92,7 @@ def spec_fields(spec: ClipSpec, seed: int, params: dict[str, Any]) -> dict[str, 
         "speed": spec.speed,
         "renderer": requested_renderer(),
         # only when not the default, so the keys of existing follow-camera clips stay valid
-        **({"camera": spec.camera} if spec.camera != "follow" else {}),
+        **({"camera": spec.camera} if spec.camera != DEFAULT_CAMERA else {}),
         **({"trail": True} if spec.trail else {}),
         "formats": sorted(set(spec.formats)),
     }

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sims.clip_spec import CAMERAS, DEFAULT_CAMERA
 from sitegen.config_paths import inside_project
 from sitegen.errors import BuildError, Diagnostic
 from sitegen.sweep_config import EXECUTORS, SweepConfig, parse_sweeps
@@ -56,7 +57,7 @@ class ClipConfig:
     after: float | None = None
     speed: float = 1.0  # time-lapse: 4 plays 80 simulated seconds in 20 s (docs/clips.md)
     timeout: float | None = None  # wall-clock safety net for this clip (default sims.timeout)
-    camera: str = "follow"  # follow (chase camera) or overview (fixed, whole path; sims/camera.py)
+    camera: str = DEFAULT_CAMERA  # follow (chase camera) or overview (fixed, whole path)
     trail: bool = False  # draw the path travelled so far on the floor
     title: str | None = None  # gallery heading and caption link text (default: the name)
     keys: Path | None = None  # script clips: key presses for `import keyboard` (--keys format)
@@ -426,8 +427,8 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 if "timeout" in cv and not 0 < cv["timeout"] <= MAX_TIMEOUT:
                     ck.fail(item, f"{where}.timeout", TIMEOUT_RULE)
                     continue
-                if cv.get("camera", "follow") not in ("follow", "overview"):
-                    ck.fail(item, f"{where}.camera", "must be follow or overview")
+                if cv.get("camera", DEFAULT_CAMERA) not in CAMERAS:
+                    ck.fail(item, f"{where}.camera", f"must be {' or '.join(CAMERAS)}")
                     continue
                 clips.append(ClipConfig(**cv))
     kwargs["clips"] = tuple(clips)

@@ -218,3 +218,17 @@ def test_identical_content_under_two_names_renders_once(tmp_path):
     assert [r.rendered for r in twins] == [True, False]
     assert twins[0].files == twins[1].files and twins[1].meta["name"] == "twin-b"
     assert ("twin-b", "cached") in [(e.name, e.status) for e in events]
+
+
+def test_a_clip_job_crosses_to_the_worker_as_itself():
+    """sims.clip_worker.ClipJob: the JSON line a worker reads gives back the same record."""
+    import json
+
+    from sims.clip_pool import Job
+    from sims.clip_worker import ClipJob
+
+    spec = small("j", "cart-reverse", camera="overview", formats=("replay", "video"))
+    job = ClipJob("render", spec, "sims.sources:scenario_plan", "/tmp/x", start=60, stop=120)
+    message = json.loads(json.dumps(Job(7, job, 30.0).message()))
+    assert message["id"] == 7
+    assert ClipJob.from_message(message) == dataclasses.replace(job, time_limit=30.0)
