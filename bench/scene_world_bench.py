@@ -1,21 +1,21 @@
-"""The course's 80 s 2W1A experiment on the scene-built and on the hand-built robot, side by side.
+"""The course's 80 s 2W1A experiment on the bundled scene and the course's scene file, side by side.
 
     python bench/scene_world_bench.py [--repeat N] [--explain]
 
 Runs ``../shared/seeds/scripts/task2_2w1a_random.py`` (3 simulations of 5 random arm moves, 5 s
 each) unchanged through the legacy remote API emulation, on a virtual clock, once per scene per
-repeat, alternating the scenes so both see the same machine load: ``2w1a`` (built from
-sims/scene/bundled/2w1a.scene.json, derived from the course's 2w1a.ttt), ``2w1a-hand`` (the model
-written in Python) and, when the course data is there, ``2w1a.ttt`` read from the file: once with
-its decoding served by the scene cache (sims/scene/scene_cache.py, a fresh temporary cache that
-the warm-up run fills: what every run after the first sees) and once decoded in the run (cache
+repeat, alternating the scenes so all see the same machine load: ``2w1a`` (built from
+sims/scene/bundled/2w1a.scene.json, derived from the course's 2w1a.ttt) and, when the course
+data is there, ``2w1a.ttt`` read from the file: once with its decoding served by the scene cache
+(sims/scene/scene_cache.py, a fresh temporary cache that the warm-up run fills: what every run
+after the first sees) and once decoded in the run (cache
 off). Prints simulated seconds, wall seconds and the speed (simulated / wall) of each, the best
-of the repeats, and the ratio of each to the hand model. Figures depend on the machine; compare
+of the repeats, and the ratio of each to ``2w1a``. Figures depend on the machine; compare
 the ratio, measured in one run.
 
-Why the scene-built robot is slower (docs/scenes.md): the scene's respondable masks let the arm
-and hand hit the body and wheels, which the hand model never does; those self-contacts are
-about a sixth of its contact points and most of its extra constraint-solver work. ``--explain``
+What the scene's self-collision costs (docs/scenes.md): its respondable masks let the arm and
+hand hit the body and wheels; those self-contacts are about a sixth of its contact points and
+most of its constraint-solver work. ``--explain``
 adds the same scene with its robot's self-collision masked off (a diagnostic: NOT the scene's
 physics) and, from one untimed run of each, the contact points at the end of each pass.
 """
@@ -198,7 +198,7 @@ def main() -> int:
 
 def measure(args: argparse.Namespace, tmp: Path) -> int:
     cache = str(tmp / "scene-cache")
-    runs = [("2w1a-hand", "2w1a-hand", cache), ("2w1a", "2w1a", cache)]
+    runs = [("2w1a", "2w1a", cache)]
     if TTT.is_file():
         runs += [
             ("2w1a.ttt, cached decoding", str(TTT), cache),
@@ -222,17 +222,17 @@ def measure(args: argparse.Namespace, tmp: Path) -> int:
                 min(wall, old[1]) if old else wall,
                 min(cpu, old[2]) if old else cpu,
             )
-    hand_wall = best["2w1a-hand"][0] / best["2w1a-hand"][1]
-    hand_cpu = best["2w1a-hand"][0] / best["2w1a-hand"][2]
+    base_wall = best["2w1a"][0] / best["2w1a"][1]
+    base_cpu = best["2w1a"][0] / best["2w1a"][2]
     print(
-        f"{'scene':<28} {'sim s':>6} {'wall s':>7} {'x real':>7} {'vs hand':>8}"
-        f" {'cpu s':>7} {'x real':>7} {'vs hand':>8}"
+        f"{'scene':<28} {'sim s':>6} {'wall s':>7} {'x real':>7} {'vs 2w1a':>8}"
+        f" {'cpu s':>7} {'x real':>7} {'vs 2w1a':>8}"
     )
     for label, (sim, wall, cpu) in best.items():
         print(
             f"{label:<28} {sim:>6.1f} {wall:>7.2f} {sim / wall:>7.0f}"
-            f" {sim / wall / hand_wall:>8.2f}"
-            f" {cpu:>7.2f} {sim / cpu:>7.0f} {sim / cpu / hand_cpu:>8.2f}"
+            f" {sim / wall / base_wall:>8.2f}"
+            f" {cpu:>7.2f} {sim / cpu:>7.0f} {sim / cpu / base_cpu:>8.2f}"
         )
     print("(best of --repeat runs; wall = elapsed, cpu = CPU time of the run, its child included)")
     api, floor = best["2w1a"], best["2w1a, bare pybullet stepping"]

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-MODES = ("follow", "overview")
 TRAIL_RGB = (255, 96, 0)
 FILL = 0.85  # the farthest point of the trajectory lands at 85% of the way to the frame's edge
 TRAIL_Z = 0.002  # just above the floor, so the line is never hidden by the tiles

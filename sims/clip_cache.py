@@ -1,10 +1,12 @@
 """Content-hash keys for clips and the on-disk cache layout.
 
 Key = sha256 over: the source's files (scenario file, script...) by content and file name, the
-engine files below by content and package-relative name (never mtimes or absolute paths, so a
-checkout copied or moved elsewhere hits the same entries), the params, seed, size, fps,
-seconds, speed, formats, the requested renderer and the versions of the libraries that write
-the files (pybullet, OpenCV, trimesh, pygltflib, the MP4 encoder). Layout::
+code that renders a clip as :func:`located.code_keys.code_key` keys it (the import closure of
+the clip worker and of the source kind's module: our modules and data files by package-relative
+name and bytes, never mtimes or absolute paths, so a checkout copied or moved elsewhere hits the
+same entries; the versions of the third-party libraries it imports), the spec fields (params,
+seed, size, fps, seconds, speed, camera, trail, formats, the requested renderer:
+:func:`sims.clips.spec_fields`) and the MP4 encoder found on the system. Layout::
 
     cache_dir/<key>/        meta.json and the files its "files" lists (FILES: the names by kind)
     cache_dir/latest/<name>.json   {"key": ...}  the last good render of each clip name
@@ -18,31 +20,14 @@ import json
 import re
 import shutil
 from functools import lru_cache
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 ROOT_DIR = PACKAGE_DIR.parent
 CACHE_FORMAT = 2
-ENGINE_FILES = (
-    "world.py",
-    "world_tree.py",
-    "joint_motors.py",
-    "proximity.py",
-    "recording.py",
-    "render.py",
-    "camera.py",  # overview camera and floor trail
-    "video.py",
-    "plot.py",
-    "clip_worker.py",
-    "state_tape.py",
-    "sources.py",
-    "replay/*.py",  # glTF replays
-    "models/*.py",
-    "scenarios/__init__.py",
-    "scene/*.py",
-)
+#: the module every clip's code runs from (the worker; its closure covers the built-in sources)
+ENGINE = "sims.clip_worker"
 FILES = {  # every kind of file a clip may have; an entry's meta.json lists the ones it has
     "video": "clip.webm",
     "mp4": "clip.mp4",
@@ -78,43 +63,25 @@ def file_digest(path: str | Path) -> str:
     return _file_digest(str(p.resolve()), st.st_size, st.st_mtime_ns)
 
 
-def engine_files() -> list[Path]:
-    out: list[Path] = []
-    for pattern in ENGINE_FILES:
-        out += sorted(PACKAGE_DIR.glob(pattern))
-    return out
-
-
-def _version(package: str) -> str:
-    try:
-        return metadata.version(package)
-    except metadata.PackageNotFoundError:
-        return "unknown"
-
-
-def _versions() -> dict[str, str]:
-    import cv2
-
+def _encoder() -> str:
+    """The MP4 encoder (a program, not a Python library: outside the code key)."""
     from sims.video import mp4_encoder
 
-    return {
-        "pybullet": _version("pybullet"),
-        "opencv": cv2.__version__,
-        "trimesh": _version("trimesh"),
-        "pygltflib": _version("pygltflib"),
-        "mp4": mp4_encoder() or "none",
-    }
+    return mp4_encoder() or "none"
 
 
-def clip_key(fields: dict[str, Any], source_files: list[str]) -> str:
-    """Hex key from the spec fields that change the output and all relevant source bytes."""
+def clip_key(fields: dict[str, Any], source_files: list[str], code: tuple[str, ...] = ()) -> str:
+    """Hex key from the spec fields that change the output, the source files' bytes and the
+    code that runs: :data:`ENGINE` and the modules ``code`` names (a source kind's module)."""
+    from located.code_keys import code_key
+
     files = {_source_name(f): file_digest(f) for f in source_files}
-    files |= {p.relative_to(PACKAGE_DIR).as_posix(): file_digest(p) for p in engine_files()}
     payload = {
         "format": CACHE_FORMAT,
         "fields": fields,
         "files": dict(sorted(files.items())),
-        "versions": _versions(),
+        "code": code_key(ENGINE, *sorted(set(code))),
+        "encoder": _encoder(),
     }
     text = json.dumps(payload, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:24]

@@ -30,14 +30,20 @@ START_LIMIT = 300.0  # a worker that has not finished its imports by then is kil
 
 @dataclass
 class Job:
-    """One unit of work for a worker; ``payload`` is what the worker receives."""
+    """One unit of work for a worker; ``payload`` is what the worker receives: a dict, or a
+    record whose ``message()`` gives it (sims.clip_worker.ClipJob)."""
 
     id: int
-    payload: dict[str, Any]
+    payload: Any
     limit: float  # wall-clock seconds
     owner: Any = None  # the caller's record (the clip this job belongs to)
     started: float = 0.0
     progress: int = 0
+
+    def message(self) -> dict[str, Any]:
+        """What a worker receives (one JSON line): the payload, the id and the limit."""
+        payload = self.payload.message() if hasattr(self.payload, "message") else self.payload
+        return {**payload, "id": self.id, "time_limit": self.limit}
 
 
 @dataclass
@@ -111,7 +117,7 @@ class Pool:
     def _start(self, worker: Worker, job: Job) -> None:
         worker.job, worker.last_owner = job, job.owner
         job.started = time.monotonic() if worker.ready else 0.0
-        message = {**job.payload, "id": job.id, "time_limit": job.limit}
+        message = job.message()
         worker.process.stdin.write((json.dumps(message) + "\n").encode())
         worker.process.stdin.flush()
 

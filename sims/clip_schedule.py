@@ -14,13 +14,13 @@ import shutil
 import tempfile
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from sims.clip_pool import Job, make_pool
 from sims.clip_spec import ClipSpec
-from sims.clip_worker import RANGE_FRAMES, range_starts
+from sims.clip_worker import RANGE_FRAMES, ClipJob, range_starts
 
 
 @dataclass(frozen=True)
@@ -74,7 +74,7 @@ def run_clips(todo: list[ClipRun], jobs: int | None, notify: Progress) -> Iterat
     open_clips = set(todo)
 
     def next_job(last: ClipRun | None) -> Job | None:
-        if ready and ready[0].payload["phase"] == "encode":
+        if ready and ready[0].payload.phase == "encode":
             return ready.pop(0)
         if simulations:
             job = simulations.pop(0)
@@ -89,8 +89,8 @@ def run_clips(todo: list[ClipRun], jobs: int | None, notify: Progress) -> Iterat
 
     def on_progress(job: Job) -> None:
         clip: ClipRun = job.owner
-        if job.payload["phase"] == "render":
-            clip.drawn[job.payload["start"]] = job.progress
+        if job.payload.phase == "render":
+            clip.drawn[job.payload.start] = job.progress
             _tell(clip, notify)
 
     workers = max(1, min(jobs or os.cpu_count() or 1, sum(c.total for c in todo)))
@@ -122,7 +122,7 @@ def _advance(
     clip: ClipRun, job: Job, result: dict[str, Any], ready: list[Job], ids, notify
 ) -> None:
     """A job of ``clip`` succeeded: queue what it unlocks."""
-    phase = job.payload["phase"]
+    phase = job.payload.phase
     if phase == "simulate" and "files" in result:  # a replay without video: complete
         clip.outcome = result
     elif phase == "simulate":
@@ -131,14 +131,15 @@ def _advance(
         clip.starts = range_starts(clip.total, RANGE_FRAMES)
         clip.phase = "rendering"
         for start in clip.starts:
-            payload = _payload(clip, "render")
             stop = min(start + RANGE_FRAMES, clip.total)
-            payload.update(start=start, stop=stop, follow=result["follow"])
+            payload = replace(
+                _payload(clip, "render"), start=start, stop=stop, follow=result["follow"]
+            )
             ready.append(Job(next(ids), payload, clip.limit, owner=clip))
         clip.running = len(clip.starts)
         _tell(clip, notify)
     elif phase == "render":
-        clip.drawn[job.payload["start"]] = result["frames"]
+        clip.drawn[job.payload.start] = result["frames"]
         clip.renderers.add(result["renderer"])
         if result.get("fallback"):
             clip.fallbacks.add(result["fallback"])
@@ -146,9 +147,11 @@ def _advance(
         _tell(clip, notify)
         if clip.running == 0:
             clip.phase = "encoding"
-            payload = _payload(clip, "encode")
-            payload.update(
-                meta=clip.meta, starts=clip.starts, renderer="+".join(sorted(clip.renderers))
+            payload = replace(
+                _payload(clip, "encode"),
+                meta=clip.meta,
+                starts=clip.starts,
+                renderer="+".join(sorted(clip.renderers)),
             )
             ready.insert(0, Job(next(ids), payload, clip.limit, owner=clip))
             _tell(clip, notify)
@@ -169,13 +172,8 @@ def _tell(clip: ClipRun, notify: Progress) -> None:
     )
 
 
-def _payload(clip: ClipRun, phase: str) -> dict[str, Any]:
-    return {
-        "phase": phase,
-        "spec": asdict(clip.spec),
-        "target": clip.target,
-        "out_dir": str(clip.tmp),
-    }
+def _payload(clip: ClipRun, phase: str) -> ClipJob:
+    return ClipJob(phase, clip.spec, clip.target, str(clip.tmp))
 
 
 def _label(spec: ClipSpec) -> str:

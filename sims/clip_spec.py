@@ -8,6 +8,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+#: The clip cameras (sims/camera.py); the first is the default, everywhere (sitegen.yml too).
+CAMERAS = ("follow", "overview")
+DEFAULT_CAMERA = CAMERAS[0]
+
 
 @dataclass(frozen=True)
 class ClipSpec:
@@ -32,7 +36,7 @@ class ClipSpec:
     speed: float = 1.0
     timeout: float | None = None
     label: str | None = None
-    camera: str = "follow"  # or "overview": one fixed camera framing the whole path
+    camera: str = DEFAULT_CAMERA  # or "overview": one fixed camera framing the whole path
     trail: bool = False  # the path so far drawn on the floor (sims/camera.py)
     formats: tuple[str, ...] = ("video",)  # "replay" and/or "video"
 

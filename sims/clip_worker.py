@@ -27,12 +27,14 @@ import sys
 import time
 import traceback
 from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from sims.clip_cache import FILES, META
+from sims.clip_spec import DEFAULT_CAMERA, ClipSpec
 from sims.plot import path_svg, series_svg
 from sims.recording import RecordingTimeout, frame_count, record
 from sims.render import requested_renderer
@@ -45,20 +47,51 @@ STATES = "states.npz"
 Progress = Callable[[int], None]
 
 
-def _label(spec: dict[str, Any]) -> str:
-    return f"{spec.get('kind', 'scenario')} {spec.get('label') or spec['scenario']!r}"
+@dataclass
+class ClipJob:
+    """One job of a clip, as the schedule (sims/clip_schedule.py), ``render_job`` and Ray hand
+    it to a worker: a *simulate* job needs the first four fields, a *render* job also its frame
+    range and the followed object, an *encode* job the simulation's meta, the range starts and
+    the renderers that drew them. It crosses the process boundary as one JSON line
+    (:meth:`message`, :meth:`from_message`)."""
+
+    phase: str  # "simulate", "render" or "encode"
+    spec: ClipSpec
+    target: str  # the source kind's plan function, "module:function"
+    out_dir: str
+    time_limit: float = math.inf  # wall-clock seconds (the pool sets it from the job's limit)
+    start: int = 0  # render: frames start..stop of the state tape
+    stop: int = 0
+    follow: str = ""  # render: the object the camera follows
+    meta: dict[str, Any] = field(default_factory=dict)  # encode: what simulate returned
+    starts: list[int] = field(default_factory=list)  # encode: the frame ranges, in order
+    renderer: str = ""  # encode: the renderers that drew them ("egl", "tinyrenderer"...)
+
+    def message(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_message(cls, message: dict[str, Any]) -> ClipJob:
+        """The job a JSON line holds (keys that are not fields, the pool's ``id``, ignored)."""
+        known = {f.name for f in fields(cls)} - {"spec"}
+        spec = dict(message["spec"])
+        spec["formats"] = tuple(spec.get("formats", ()))
+        return cls(spec=ClipSpec(**spec), **{k: v for k, v in message.items() if k in known})
+
+
+def _label(spec: ClipSpec) -> str:
+    return f"{spec.kind} {spec.label or spec.scenario!r}"
 
 
 # -- phase 1: simulate -----------------------------------------------------------------------
-def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
+def simulate(job: ClipJob, progress: Progress | None = None) -> dict[str, Any]:
     """Run the source; write data files and the state tape into ``out_dir``."""
     from sims.clip_cache import portable_params
-    from sims.clip_spec import ClipSpec
     from sims.replay.export import ReplayTape
 
-    spec = ClipSpec(**job["spec"])
-    out = Path(job["out_dir"])
-    plan = load_plan_function(job["target"])(spec)
+    spec = job.spec
+    out = Path(job.out_dir)
+    plan = load_plan_function(job.target)(spec)
     length = spec.seconds if spec.seconds is not None else plan.duration
     video = "video" in spec.formats
     total = frame_count(length, spec.fps, spec.speed)
@@ -83,7 +116,7 @@ def simulate(job: dict[str, Any], progress: Progress | None = None) -> dict[str,
         assert tape is not None
         tape.sample(world)
 
-    deadline = time.monotonic() + job["time_limit"]
+    deadline = time.monotonic() + job.time_limit
     recording, _ = record(
         plan,
         fps=spec.fps,
@@ -206,15 +239,15 @@ def range_file(out: Path, start: int) -> Path:
 
 
 def render_range(
-    job: dict[str, Any], progress: Progress | None = None, worlds: WorldCache | None = None
+    job: ClipJob, progress: Progress | None = None, worlds: WorldCache | None = None
 ) -> dict[str, Any]:
-    """Render frames ``job["start"]`` to ``job["stop"]`` of the state tape to a raw RGB file."""
-    out = Path(job["out_dir"])
-    spec = job["spec"]
-    width, height = spec["width"], spec["height"]
+    """Render frames ``job.start`` to ``job.stop`` of the state tape to a raw RGB file."""
+    out = Path(job.out_dir)
+    spec = job.spec
+    width, height = spec.width, spec.height
     with np.load(out / STATES) as tape:
         every_state = tape["states"]
-        states = every_state[job["start"] : job["stop"]]
+        states = every_state[job.start : job.stop]
         layout = [(b, tuple(j)) for b, j in json.loads(str(tape["layout"]))]
         setup = json.loads(str(tape["world"]))
     renderer = requested_renderer()
@@ -230,9 +263,9 @@ def render_range(
 
     world = cache.get(world_key, make)
     try:
-        mode, trail = spec.get("camera", "follow"), spec.get("trail", False)
-        if (mode != "follow" or trail) and cache.path is None:
-            cache.path = followed_path(world, layout, every_state, job["follow"])
+        mode, trail = spec.camera, spec.trail
+        if (mode != DEFAULT_CAMERA or trail) and cache.path is None:
+            cache.path = followed_path(world, layout, every_state, job.follow)
         fixed = None
         if mode == "overview":
             from sims.camera import matrices, overview_for
@@ -240,21 +273,20 @@ def render_range(
 
             ov = overview_for(cache.path, world.model.camera.yaw, FOV_DEG, width / height)
             fixed = matrices(ov, FOV_DEG, width / height, NEAR, FAR)
-        if world._renderer is not None:
-            world._renderer.new_sequence()
-        deadline = time.monotonic() + job["time_limit"]
-        with open(range_file(out, job["start"]), "wb") as f:
+        world.new_render_sequence()
+        deadline = time.monotonic() + job.time_limit
+        with open(range_file(out, job.start), "wb") as f:
             for n, state in enumerate(states, 1):
                 if time.monotonic() > deadline:
-                    raise RecordingTimeout(f"time limit passed at frame {job['start'] + n - 1}")
+                    raise RecordingTimeout(f"time limit passed at frame {job.start + n - 1}")
                 apply_state(world, layout, state)
-                image = world.render(width, height, job["follow"], fixed)
+                image = world.render(width, height, job.follow, fixed)
                 if trail:
                     from sims.camera import draw_trail
                     from sims.render import chase_camera
 
-                    view, proj = fixed or chase_camera(world, width, height, job["follow"])
-                    image = draw_trail(image, cache.path[: job["start"] + n], view, proj)
+                    view, proj = fixed or chase_camera(world, width, height, job.follow)
+                    image = draw_trail(image, cache.path[: job.start + n], view, proj)
                 f.write(np.ascontiguousarray(image).tobytes())
                 if progress is not None:
                     progress(n)
@@ -269,27 +301,27 @@ def render_range(
 
 
 # -- phase 3: encode ---------------------------------------------------------------------------
-def encode(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
+def encode(job: ClipJob, progress: Progress | None = None) -> dict[str, Any]:
     """Join the ranges into ``clip.webm`` and, where ffmpeg has H.264, ``clip.mp4`` (+ the
     poster, unless the replay made it) and write ``meta.json``."""
     import contextlib
 
-    out = Path(job["out_dir"])
-    spec = job["spec"]
-    meta = dict(job["meta"])
-    width, height, total = spec["width"], spec["height"], meta["frames"]
+    out = Path(job.out_dir)
+    spec = job.spec
+    meta = dict(job.meta)
+    width, height, total = spec.width, spec.height, meta["frames"]
     size = width * height * 3
-    poster_index = total // 2 if "replay" not in spec.get("formats", ()) else -1
+    poster_index = total // 2 if "replay" not in spec.formats else -1
     done = 0
     with contextlib.ExitStack() as stack:
         writers: list[Any] = [
-            stack.enter_context(WebmWriter(out / FILES["video"], width, height, spec["fps"]))
+            stack.enter_context(WebmWriter(out / FILES["video"], width, height, spec.fps))
         ]
         if mp4_encoder() is not None:
             writers.append(
-                stack.enter_context(Mp4Writer(out / FILES["mp4"], width, height, spec["fps"]))
+                stack.enter_context(Mp4Writer(out / FILES["mp4"], width, height, spec.fps))
             )
-        for start in job["starts"]:
+        for start in job.starts:
             path = range_file(out, start)
             with open(path, "rb") as f:
                 while chunk := f.read(size):
@@ -304,7 +336,7 @@ def encode(job: dict[str, Any], progress: Progress | None = None) -> dict[str, A
             path.unlink()
     if done != total:
         raise RuntimeError(f"encoded {done} frames, expected {total}")
-    return finish_meta(out, meta, job["renderer"])
+    return finish_meta(out, meta, job.renderer)
 
 
 def range_starts(total: int, size: int) -> list[int]:
@@ -315,16 +347,16 @@ def range_starts(total: int, size: int) -> list[int]:
 RANGE_FRAMES = 60  # frames per render job: ~1 s of EGL work, small enough to share out
 
 
-def simulate_fenced(job: dict[str, Any], progress: Progress | None = None) -> dict[str, Any]:
+def simulate_fenced(job: ClipJob, progress: Progress | None = None) -> dict[str, Any]:
     """``simulate`` in a forked child with no network and no socket outside it (the clip's
     scripts, Python and Lua, run there; sims/remote_api/isolate.py), killed past its limit."""
     from sims.remote_api.isolate import KILL_GRACE, call_isolated
 
-    limit = job["time_limit"] + KILL_GRACE
-    return call_isolated(lambda: simulate(job, progress), limit, _label(job["spec"]))
+    limit = job.time_limit + KILL_GRACE
+    return call_isolated(lambda: simulate(job, progress), limit, _label(job.spec))
 
 
-def render_job(job: dict[str, Any]) -> tuple[dict[str, Any], str | None]:
+def render_job(job: ClipJob) -> tuple[dict[str, Any], str | None]:
     """All three phases in this process (the simulation in a fenced child): the clip's meta
     (as the workers would write it) and why EGL fell back (None: it did not; see
     ``sims.render.fallback_note``)."""
@@ -338,20 +370,20 @@ def render_job(job: dict[str, Any]) -> tuple[dict[str, Any], str | None]:
     try:
         for start in starts:
             stop = min(start + RANGE_FRAMES, meta["frames"])
-            part = {**job, "start": start, "stop": stop, "follow": meta["follow"]}
+            part = replace(job, phase="render", start=start, stop=stop, follow=meta["follow"])
             drawn = render_range(part, worlds=worlds)
             renderers.add(drawn["renderer"])
             fallbacks.add(drawn["fallback"])
     finally:
         worlds.close()
     renderer = "+".join(sorted(renderers))
-    meta = encode({**job, "meta": meta, "starts": starts, "renderer": renderer})
+    meta = encode(replace(job, phase="encode", meta=meta, starts=starts, renderer=renderer))
     return meta, "; ".join(sorted(r for r in fallbacks if r)) or None
 
 
 # -- the worker process ------------------------------------------------------------------------
-def run_phase(job: dict[str, Any], progress: Progress, worlds: WorldCache) -> dict[str, Any]:
-    phase = job["phase"]
+def run_phase(job: ClipJob, progress: Progress, worlds: WorldCache) -> dict[str, Any]:
+    phase = job.phase
     if phase == "simulate":
         worlds.close()  # a World per process with EGL: free it before the next clip's
         return simulate_fenced(job, progress)
@@ -362,13 +394,13 @@ def run_phase(job: dict[str, Any], progress: Progress, worlds: WorldCache) -> di
     raise ValueError(f"unknown phase {phase!r}")
 
 
-def outcome(job: dict[str, Any], run: Callable[[], dict[str, Any]]) -> dict[str, Any]:
+def outcome(job: ClipJob, run: Callable[[], dict[str, Any]]) -> dict[str, Any]:
     """``{"ok": True, "result": ...}`` or ``{"ok": False, "error": one line naming the clip}``."""
-    label = _label(job["spec"])
+    label = _label(job.spec)
     try:
         return {"ok": True, "result": run()}
     except RecordingTimeout as exc:
-        limit = job["time_limit"]
+        limit = job.time_limit
         shown = f"{limit:g} s" if math.isfinite(limit) else "inf"
         return {"ok": False, "error": f"{label} passed its wall-clock limit of {shown} ({exc})"}
     except Exception as exc:  # reported, not raised: the other clips go on
@@ -395,16 +427,17 @@ def serve() -> None:
     for line in sys.stdin:
         if not line.strip():
             continue
-        job = json.loads(line)
+        message = json.loads(line)
+        job, job_id = ClipJob.from_message(message), message["id"]
         last = [0.0]
 
-        def progress(n: int, job_id: int = job["id"], last: list[float] = last) -> None:
+        def progress(n: int, job_id: int = job_id, last: list[float] = last) -> None:
             now = time.monotonic()
             if now - last[0] >= 0.1:
                 last[0] = now
                 send({"id": job_id, "progress": n})
 
-        send({"id": job["id"], **outcome(job, lambda job=job: run_phase(job, progress, worlds))})
+        send({"id": job_id, **outcome(job, lambda job=job: run_phase(job, progress, worlds))})
     worlds.close()
 
 

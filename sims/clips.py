@@ -51,8 +51,8 @@ from typing import Any
 
 from sims import clip_cache
 from sims.clip_schedule import ClipEvent, ClipRun, Progress, run_clips
-from sims.clip_spec import FORMATS, ClipSpec
-from sims.recording import frame_count
+from sims.clip_spec import DEFAULT_CAMERA, FORMATS, ClipSpec
+from sims.recording import RecordingPlan, frame_count
 from sims.render import requested_renderer
 from sims.sources import load_plan_function, source_target
 
@@ -92,10 +92,24 @@ def spec_fields(spec: ClipSpec, seed: int, params: dict[str, Any]) -> dict[str, 
         "speed": spec.speed,
         "renderer": requested_renderer(),
         # only when not the default, so the keys of existing follow-camera clips stay valid
-        **({"camera": spec.camera} if spec.camera != "follow" else {}),
+        **({"camera": spec.camera} if spec.camera != DEFAULT_CAMERA else {}),
         **({"trail": True} if spec.trail else {}),
         "formats": sorted(set(spec.formats)),
     }
+
+
+def planned(spec: ClipSpec) -> tuple[str, RecordingPlan, str]:
+    """The spec's source target ("module:function"), its recording plan and its cache key:
+    the fields that change the output, the source's files and the code that runs
+    (:func:`sims.clip_cache.clip_key`)."""
+    target = source_target(spec.kind)
+    plan = load_plan_function(target)(spec)
+    key = clip_cache.clip_key(
+        spec_fields(spec, plan.seed, plan.params),
+        clip_cache.key_files(plan),
+        code=(target.partition(":")[0],),
+    )
+    return target, plan, key
 
 
 def render_clips(
@@ -129,11 +143,7 @@ def render_clips(
         seen.add(spec.name)
         try:
             _check_spec(spec)
-            target = source_target(spec.kind)
-            plan = load_plan_function(target)(spec)
-            key = clip_cache.clip_key(
-                spec_fields(spec, plan.seed, plan.params), clip_cache.key_files(plan)
-            )
+            target, plan, key = planned(spec)
         except Exception as exc:
             text = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
             label = spec.label or spec.scenario

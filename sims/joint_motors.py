@@ -1,8 +1,8 @@
 """Joints of one World in CoppeliaSim's conventions: reading them and driving their motors.
 
 A mixin of sims.world.World, apart from the stepping core so each file says what it holds. A
-joint's angle is reported and commanded in CoppeliaSim's convention (``JointRef.zero`` and
-``sign`` map it to pybullet's); its CoppeliaSim mode (position, velocity, hold = passive,
+joint's angle is reported and commanded in CoppeliaSim's convention (``JointRef.zero`` maps
+it to pybullet's); its CoppeliaSim mode (position, velocity, hold = passive,
 spring, free) picks the pybullet motor set up after every (re)build.
 """
 
@@ -58,7 +58,7 @@ class JointMotors:
         if j.closure is not None:
             return self._closure_position(j)
         q = p.getJointState(j.body, j.index, physicsClientId=self._cid)[0]
-        return j.zero + j.sign * q
+        return j.zero + q
 
     def joint_velocity(self, handle: int | str) -> float:
         j = self.joint(handle)
@@ -66,7 +66,7 @@ class JointMotors:
             return 0.0
         if j.closure is not None:
             return self._closure_velocity(j)
-        return j.sign * p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
+        return p.getJointState(j.body, j.index, physicsClientId=self._cid)[1]
 
     def _closure_frames(self, j: JointRef) -> tuple[Pose, Pose]:
         """A closing joint's frame on its parent link and on its child link, in the world."""
@@ -133,7 +133,7 @@ class JointMotors:
             j.body,
             j.index,
             p.POSITION_CONTROL,
-            targetPosition=(rad - j.zero) * j.sign,
+            targetPosition=rad - j.zero,
             force=HOLD_FORCE if self.kinematic(j) else j.max_force,
             positionGain=j.position_gain,
             velocityGain=j.velocity_gain,
@@ -158,7 +158,7 @@ class JointMotors:
             j.body,
             j.index,
             p.VELOCITY_CONTROL,
-            targetVelocity=rad_s * j.sign,
+            targetVelocity=rad_s,
             force=j.max_force,
             physicsClientId=self._cid,
         )
@@ -184,7 +184,7 @@ class JointMotors:
             return
         if j.closure is not None:
             return self._unmotored(j, "set position")
-        p.resetJointState(j.body, j.index, (rad - j.zero) * j.sign, physicsClientId=self._cid)
+        p.resetJointState(j.body, j.index, rad - j.zero, physicsClientId=self._cid)
         self.moved()  # proximity readings see the new pose
         if self.kinematic(j):
             self.set_joint_target_position(j.name, rad)
@@ -207,7 +207,7 @@ class JointMotors:
             )
             return
         if j.lower is not None and j.upper is not None:
-            a, b = sorted(((j.lower - j.zero) * j.sign, (j.upper - j.zero) * j.sign))
+            a, b = sorted((j.lower - j.zero, j.upper - j.zero))
             p.changeDynamics(
                 j.body, j.index, jointLowerLimit=a, jointUpperLimit=b, physicsClientId=c
             )
@@ -235,14 +235,14 @@ class JointMotors:
         for name, rest in self._springs.items():
             j = self._joints[name]
             q, dq = p.getJointState(j.body, j.index, physicsClientId=self._cid)[:2]
-            error = rest - (j.zero + j.sign * q)
-            torque = j.spring_k * error - j.spring_c * j.sign * dq
+            error = rest - (j.zero + q)
+            torque = j.spring_k * error - j.spring_c * dq
             torque = max(-j.max_force, min(j.max_force, torque)) if j.max_force > 0 else torque
             p.setJointMotorControl2(
                 j.body,
                 j.index,
                 p.TORQUE_CONTROL,
-                force=torque * j.sign,
+                force=torque,
                 physicsClientId=self._cid,
             )
 
@@ -289,6 +289,6 @@ class JointMotors:
             force = float(out.get("force", j.max_force))
             p.setJointMotorControl2(
                 j.body, j.index, p.VELOCITY_CONTROL,
-                targetVelocity=float(out["velocity"]) * j.sign, force=abs(force),
+                targetVelocity=float(out["velocity"]), force=abs(force),
                 physicsClientId=c,
             )  # fmt: skip

@@ -144,7 +144,7 @@ class Mechanisms:
     def _hold(self, j: JointRef, value: float) -> None:
         """A kinematic joint: put at ``value`` and held there against the physics."""
         c = self._cid
-        q = (value - j.zero) * j.sign
+        q = value - j.zero
         p.resetJointState(j.body, j.index, q, physicsClientId=c)
         p.setJointMotorControl2(
             j.body, j.index, p.POSITION_CONTROL, targetPosition=q, force=HOLD_FORCE,

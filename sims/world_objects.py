@@ -21,7 +21,6 @@ same tables the scene builder fills, so every resolver and reader (``tree()``, `
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -156,9 +155,6 @@ class WorldObjects:
         self._tree_version += 1
         self._roots = None
         self.moved()  # type: ignore[attr-defined]
-
-    def is_created(self, handle: int) -> bool:
-        return handle in self._created
 
     def created(self, handle: int) -> Created | None:
         return self._created.get(handle)
@@ -632,7 +628,3 @@ def _primitive_body(client: int, obj: Created) -> int:
 def name_has_suffix(name: str) -> bool:
     base, sep, num = name.rpartition("#")
     return bool(sep) and num.isdigit()
-
-
-def rotation_angle(q: tuple[float, float, float, float]) -> float:
-    return 2.0 * math.acos(max(-1.0, min(1.0, abs(q[3]))))

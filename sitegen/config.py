@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sims.clip_spec import CAMERAS, DEFAULT_CAMERA
+from sitegen.config_paths import inside_project
 from sitegen.errors import BuildError, Diagnostic
 from sitegen.sweep_config import EXECUTORS, SweepConfig, parse_sweeps
 
@@ -55,7 +57,7 @@ class ClipConfig:
     after: float | None = None
     speed: float = 1.0  # time-lapse: 4 plays 80 simulated seconds in 20 s (docs/clips.md)
     timeout: float | None = None  # wall-clock safety net for this clip (default sims.timeout)
-    camera: str = "follow"  # follow (chase camera) or overview (fixed, whole path; sims/camera.py)
+    camera: str = DEFAULT_CAMERA  # follow (chase camera) or overview (fixed, whole path)
     trail: bool = False  # draw the path travelled so far on the floor
     title: str | None = None  # gallery heading and caption link text (default: the name)
     keys: Path | None = None  # script clips: key presses for `import keyboard` (--keys format)
@@ -284,11 +286,10 @@ def parse_config(text: str, root: Path, file: str = CONFIG_NAME) -> Config:
         ck.fail(
             top["course_repo"], "course_repo", "must be a repository name (letters, digits, . _ -)"
         )
-    for key in ("content_dir", "output_dir"):
+    inside_project(ck, top, values, ("content_dir", "templates_dir"), "", root)
+    for key in ("content_dir", "output_dir", "templates_dir"):  # the site may go anywhere
         if key in values:
             kwargs[key] = Path(values[key])
-    if "templates_dir" in values:
-        kwargs["templates_dir"] = Path(values["templates_dir"])
     if "rosters" in top:
         kwargs["rosters"] = tuple(_rosters(ck, top["rosters"], root))
     if "sims" in top:
@@ -340,6 +341,8 @@ def _rosters(ck: _Checker, node: yaml.Node, root: Path) -> list[RosterConfig]:
         nodes = ck.keys(item, where, _ROSTER)
         v = _values(ck, nodes, _ROSTER, where + ".")
         if not (_require(ck, item, v, "name", where) and _require(ck, item, v, "file", where)):
+            continue
+        if not inside_project(ck, nodes, v, ("file", "corrections", "aliases"), where + ".", root):
             continue
         out.append(
             RosterConfig(
@@ -407,6 +410,9 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 if "script" in cv and "scene" not in cv:
                     ck.fail(item, f"{where}.scene", "is required with 'script'")
                     continue
+                paths = ("script", "scene", "keys", "python")
+                if not inside_project(ck, item_keys, _paths(cv, paths), paths, where + ".", root):
+                    continue
                 if "script" in cv:
                     cv["script"] = root / cv["script"]
                 extra = [k for k in _SCRIPT_ONLY if k in item_keys]
@@ -421,12 +427,20 @@ def _sims(ck: _Checker, node: yaml.Node, root: Path) -> SimsConfig | None:
                 if "timeout" in cv and not 0 < cv["timeout"] <= MAX_TIMEOUT:
                     ck.fail(item, f"{where}.timeout", TIMEOUT_RULE)
                     continue
-                if cv.get("camera", "follow") not in ("follow", "overview"):
-                    ck.fail(item, f"{where}.camera", "must be follow or overview")
+                if cv.get("camera", DEFAULT_CAMERA) not in CAMERAS:
+                    ck.fail(item, f"{where}.camera", f"must be {' or '.join(CAMERAS)}")
                     continue
                 clips.append(ClipConfig(**cv))
     kwargs["clips"] = tuple(clips)
     return SimsConfig(**kwargs)
+
+
+def _paths(values: dict, keys: tuple[str, ...]) -> dict:
+    """The values under ``keys`` that name files: ``python:`` may be a command name instead."""
+    out = {k: values[k] for k in keys if k in values}
+    if "python" in out and "/" not in out["python"] and "\\" not in out["python"]:
+        del out["python"]
+    return out
 
 
 def _script_extras(ck: _Checker, nodes: dict, cv: dict, root: Path, where: str) -> bool:

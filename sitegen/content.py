@@ -17,8 +17,8 @@ from typing import Any
 
 from sitegen.errors import Diagnostics
 from sitegen.page_text import DeferredText, first_heading, text_key
-from sitegen.source_stats import MAX_DEPTH, stat_key
-from sitegen.source_stats import SKIP_DIRS as _SKIP_DIRS
+from sitegen.source_stats import MAX_DEPTH as MAX_DEPTH  # the folder depth scan reads to
+from sitegen.source_stats import Walk, stat_key
 
 PAGE_SUFFIXES = (".md", ".markdown")
 MAX_PAGE_BYTES = 8 << 20  # a Markdown page; course pages are tens of kilobytes
@@ -57,10 +57,6 @@ class SourcePage(DeferredText):
     #: heading (page_text.first_heading), which the build needs of every page, text or not
     text_key: str = field(default="", init=False, repr=False, compare=False)
     heading: tuple | None = field(default=None, init=False, repr=False, compare=False)
-
-    @property
-    def display(self) -> str:
-        return str(self.rel)
 
 
 @dataclass
@@ -259,60 +255,42 @@ def scan(
     before; when it names exactly the files of ``known``, nothing came or went, and the walk
     is not made again (:func:`_rescan`).
 
-    The walk keeps its own stack (no recursion, so no depth can overflow Python's), stops at
-    :data:`MAX_DEPTH` folders, and reports instead of reading: a symlink whose target lies
+    The walk (:class:`sitegen.source_stats.Walk`, shared with ``stat_walk`` and ``sitegen
+    serve``) keeps its own stack (no recursion, so no depth can overflow Python's), stops at
+    :data:`MAX_DEPTH` folders, and scan reports instead of reading: a symlink whose target lies
     outside the content folder (never followed: it would publish that file), a symlink loop,
     anything that is not a regular file or folder, and files above the size limits."""
     tree = SourceTree()
     recent = time.time_ns() - RACY_NS
     if known and walked is not None and walked.keys() == known.keys():
         return _rescan(content_root, diags, known, walked, recent)
-    exclude = {p.resolve() for p in (exclude or set())}
     boundary = content_root.resolve()
-    stack: list[tuple[Path, PurePosixPath, Path]] = [(content_root, PurePosixPath("."), boundary)]
-    while stack:
-        here, rel_dir, real_dir = stack.pop()
+
+    def unreadable(rel_dir: PurePosixPath, exc: OSError) -> None:
+        diags.error(_display(rel_dir), None, "", f"cannot read folder: {exc.strerror}")
+
+    walk = Walk(content_root, exclude or set(), on_error=unreadable)
+    for found in walk:
+        entry, path, rel = found.entry, found.path, found.rel
         try:
-            with os.scandir(here) as it:
-                entries = sorted(it, key=lambda e: e.name)
-        except OSError as exc:
-            diags.error(_display(rel_dir), None, "", f"cannot read folder: {exc.strerror}")
-            continue
-        subdirs: list[tuple[Path, PurePosixPath, Path]] = []
-        for entry in entries:
-            name = entry.name
-            if name.startswith(".") or name.endswith("~"):
-                continue
-            rel = rel_dir / name
-            try:
-                plain = not entry.is_symlink()  # the common case: its type without a stat
-            except OSError:
-                plain = False  # reported by _inside_target
-            if plain and entry.is_file(follow_symlinks=False):
-                if not (known and _reuse(entry, str(rel), known, tree, recent)):
-                    _read_file(Path(entry.path), rel, tree, diags, recent)
-                continue
-            path = here / name
-            real = _inside_target(entry, path, rel, boundary, real_dir, diags)
-            if real is None:
-                continue
-            if real.is_dir():
-                if name in _SKIP_DIRS or real in exclude:
-                    continue
-                if len(rel.parts) > MAX_DEPTH:
-                    diags.error(
-                        str(rel),
-                        None,
-                        "",
-                        f"folders nest deeper than {MAX_DEPTH} levels; this one was not read",
-                    )
-                    continue
-                subdirs.append((path, rel, real))
-            elif real.is_file():
+            plain = not entry.is_symlink()  # the common case: its type without a stat
+        except OSError:
+            plain = False  # reported by _inside_target
+        if plain and entry.is_file(follow_symlinks=False):
+            if not (known and _reuse(entry, str(rel), known, tree, recent)):
                 _read_file(path, rel, tree, diags, recent)
-            else:
-                diags.error(str(rel), None, "", "not a regular file or folder; not published")
-        stack.extend(reversed(subdirs))
+            continue
+        real = _inside_target(entry, path, rel, boundary, found.real_dir, diags)
+        if real is None:
+            continue
+        if real.is_dir():
+            problem = walk.descend(found, real)
+            if problem is not None:
+                diags.error(str(rel), None, "", problem)
+        elif real.is_file():
+            _read_file(path, rel, tree, diags, recent)
+        else:
+            diags.error(str(rel), None, "", "not a regular file or folder; not published")
     return tree
 
 

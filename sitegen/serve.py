@@ -39,6 +39,7 @@ from pathlib import Path
 
 from sitegen.build import BuildOptions, build, resolve_paths
 from sitegen.errors import BuildError
+from sitegen.source_stats import snapshot
 
 RELOAD_JS = b"""<script>(function(){var v=null;
 function poll(){fetch("/__sitegen__/version",{cache:"no-store"})
@@ -258,22 +259,6 @@ class _Limited(io.RawIOBase):
         super().close()
 
 
-def _snapshot(root: Path, skip: set[Path]) -> tuple:
-    entries = []
-    for dirpath, dirnames, files in os.walk(root):
-        here = Path(dirpath)
-        dirnames[:] = sorted(
-            d for d in dirnames if not d.startswith(".") and (here / d).resolve() not in skip
-        )
-        for name in sorted(files):
-            try:
-                st = (here / name).stat()
-            except OSError:
-                continue
-            entries.append((dirpath, name, st.st_size, st.st_mtime_ns))
-    return tuple(entries)
-
-
 def _say(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
@@ -360,13 +345,13 @@ def _run(server, opts: BuildOptions, output: Path, cache_dir: Path, state, verbo
     threading.Thread(target=server.serve_forever, daemon=True).start()
     skip = {output.resolve(), cache_dir.resolve()}
     source = opts.source.resolve()
-    last = _snapshot(source, skip)
+    last = snapshot(source, skip)
     if quick:  # now the clips: the open page reloads when they are in
         rebuild(opts, state, verbosity)
     try:
         while True:
             time.sleep(0.5)
-            now = _snapshot(source, skip)
+            now = snapshot(source, skip)
             if now != last:
                 last = now
                 rebuild(opts, state, verbosity)

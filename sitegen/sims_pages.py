@@ -41,15 +41,12 @@ VIEWER = "assets/replay/replay.js"  # the replay viewer (templates/assets/replay
 THREE = "assets/replay/three.min.js"
 
 
-def _sims_code_digest() -> str:
-    import sims
+def sims_code_key() -> str:
+    """The code that renders clips (:func:`located.code_keys.code_key`): part of the gallery's
+    fingerprint."""
+    from located.code_keys import code_key
 
-    h = hashlib.sha256()
-    root = Path(sims.__file__).resolve().parent
-    for f in sorted([*root.rglob("*.py"), *root.rglob("*.json")]):  # code, bundled scenes
-        h.update(f.relative_to(root).as_posix().encode())
-        h.update(f.read_bytes())
-    return h.hexdigest()
+    return code_key("sims.clips", "sims.clip_worker")
 
 
 class SimsIntegration(Integration):
@@ -74,7 +71,7 @@ class SimsIntegration(Integration):
 
     def fingerprint(self) -> str:
         h = hashlib.sha256(repr(self.sims).replace(str(self.config.root), ".").encode())
-        h.update(_sims_code_digest().encode())
+        h.update(sims_code_key().encode())
         for clip in self.sims.clips:
             for path in (clip.script, self.config.root / (clip.scene or ""), clip.keys):
                 if path is not None and path.is_file():  # a script, a scene file

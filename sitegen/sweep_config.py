@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sitegen.config_paths import inside_project
+
 if TYPE_CHECKING:
     import yaml
 
@@ -91,6 +93,8 @@ def parse_sweeps(ck: Walker, node: yaml.Node, root: Path) -> tuple[SweepConfig, 
             v["grid"] = grid
         if "seeds" not in v and "grid" not in v and "args" not in v:
             ck.fail(item, where, "give seeds, grid or args (the runs of the sweep)")
+            continue
+        if not inside_project(ck, nodes, v, ("script", "args", "scene"), where + ".", root):
             continue
         names.add(v["name"])
         v["script"] = root / v["script"]

@@ -136,7 +136,7 @@ class SweepsIntegration(Integration):
         return plan_runs(seeds, sweep.grid, sweep.args, sweep.seed)
 
     def _key(self, sweep: SweepConfig, planned: list[Any]) -> str:
-        from sitegen.sims_pages import _sims_code_digest
+        from located.code_keys import code_key
 
         scene = self._scene(sweep)
         inputs = {
@@ -148,8 +148,8 @@ class SweepsIntegration(Integration):
         files = [sweep.script.read_bytes()]
         if Path(scene).is_file():
             files.append(Path(scene).read_bytes())
-        return _digest(json.dumps(inputs, sort_keys=True).encode(), *files,
-                       _sims_code_digest().encode())  # fmt: skip
+        code = code_key("sims.runs", "sims.sweeps.worker")  # the code a sweep's runs run
+        return _digest(json.dumps(inputs, sort_keys=True).encode(), *files, code.encode())
 
     def fingerprint(self) -> str:
         h = hashlib.sha256(repr(self.sims.sweeps).replace(str(self.config.root), ".").encode())

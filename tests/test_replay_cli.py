@@ -18,7 +18,7 @@ def test_scene_export_bundled_and_file_scenes(tmp_path):
         assert report["info"]["animationCount"] == 0 and report["info"]["drawCallCount"] > 2
     bad = run_cli("scene", "export", "nope.ttt", str(tmp_path / "x.glb"))
     assert bad.returncode == 1 and bad.stderr.strip().splitlines() == [
-        "nope.ttt: no such scene file (bundled scenes: 2w1a, 2w1a-hand, cart)"
+        "nope.ttt: no such scene file (bundled scenes: 2w1a, cart)"
     ]
     unwritable = run_cli("scene", "export", "cart", str(tmp_path / "no" / "dir" / "x.glb"))
     assert unwritable.returncode == 1 and "cannot write" in unwritable.stderr

@@ -440,8 +440,6 @@ def test_bundled_2w1a_comes_from_the_shipped_scene_description():
             "WristMotor": (0.1930, 0, 0.1160),
         }.items():
             assert w.object_pose(name)[0] == pytest.approx(at, abs=1e-3)  # the reference's figures
-    with World("2w1a-hand") as hand:
-        assert hand.model.joints[0].max_force == 1.0
 
 
 def test_cli_names_what_the_scene_lacks_and_strict_fails(tmp_path):

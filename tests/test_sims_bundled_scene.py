@@ -33,7 +33,6 @@ def test_a_missing_bundled_file_is_an_error_naming_it(tmp_path, monkeypatch):
     monkeypatch.setattr(resolve, "BUNDLED_SCENES", tmp_path)
     with pytest.raises(resolve.SceneFileError, match=r"2w1a\.scene\.json.*bundled scene '2w1a'"):
         resolve.open_scene("2w1a")
-    assert resolve.open_scene("2w1a-hand") == "2w1a"  # the hand model only when asked for
 
 
 def test_an_installed_wheel_builds_2w1a_from_its_own_package_data(tmp_path):

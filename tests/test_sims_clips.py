@@ -2,14 +2,21 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import os
+import shutil
+import subprocess
+import sys
 import time
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
+from sitegen_helpers import REPO
 
-from sims.clips import ClipEvent, ClipSpec, render_clips
+from sims.clips import ClipEvent, ClipSpec, planned, render_clips
 from sims.scenarios import get_scenario
 from sims.sources import RecordingPlan, register_source_kind, scenario_plan
 from sims.video import probe
@@ -102,9 +109,7 @@ def test_data_files_match_the_video(gallery):
 def test_second_render_comes_from_the_cache(gallery):
     cache, specs, first, _ = gallery
     events: list[ClipEvent] = []
-    start = time.perf_counter()
-    again = render_clips(specs, cache, progress=events.append)
-    assert time.perf_counter() - start < 0.5
+    again = render_clips(specs, cache, progress=events.append)  # (its speed: bench/, not here)
     assert not any(r.rendered for r in again)
     assert [e.status for e in events] == ["cached"] * len(specs)
     assert [r.files for r in again] == [r.files for r in first]
@@ -112,15 +117,53 @@ def test_second_render_comes_from_the_cache(gallery):
     assert not renamed[0].rendered and renamed[0].files == first[1].files
 
 
-def test_cache_key_follows_params_seed_and_size(gallery):
-    cache, _, first, _ = gallery
-    base = first[1].meta["key"]
-    for spec in (small("cart-reverse", seed=3), small("cart-reverse", params={"speed": -2.0})):
-        assert render_clips([spec], cache)[0].meta["key"] != base
-    bigger = ClipSpec(
-        "cart-reverse", "cart-reverse", width=W + 2, height=H, fps=FPS, seconds=SECONDS
+def test_every_field_that_changes_the_output_is_in_the_key():
+    """Nothing is rendered: the key alone (sims.clips.planned)."""
+    base = small("k", "cart-reverse")
+    key = planned(base)[2]
+    assert planned(small("renamed", "cart-reverse"))[2] == key  # the name is not content
+    changed = [
+        small("k", "cart-reverse", seed=3),
+        small("k", "cart-reverse", params={"speed": -2.0}),
+        small("k", "cart-reverse", speed=2.0),
+        small("k", "cart-reverse", camera="overview"),
+        small("k", "cart-reverse", trail=True),
+        small("k", "cart-reverse", formats=("replay",)),
+        dataclasses.replace(base, fps=FPS + 2),
+        dataclasses.replace(base, width=W + 2),
+        dataclasses.replace(base, seconds=SECONDS + 1),
+    ]
+    keys = [planned(spec)[2] for spec in changed]
+    assert key not in keys and len(set(keys)) == len(keys)
+
+
+def _key_in(code: Path, memo: Path) -> str:
+    script = (
+        "from sims.clips import ClipSpec, planned; print(planned(ClipSpec('k', 'cart-reverse'))[2])"
     )
-    assert render_clips([bigger], cache)[0].meta["key"] != base
+    env = {**os.environ, "PYTHONPATH": str(code), "SITEGEN_CODE_MEMO": str(memo)}
+    run = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, cwd=code
+    )
+    assert run.returncode == 0, run.stderr
+    return run.stdout.strip()
+
+
+def test_editing_the_engine_changes_the_key(tmp_path):
+    """A copy of the packages: an edit of any module a clip runs (the World, the Lua host,
+    which no hand-kept list named) gives another key; the same code, the same key."""
+    code = tmp_path / "code"
+    for name in ("located", "roster", "sims"):
+        shutil.copytree(REPO / name, code / name, ignore=shutil.ignore_patterns("__pycache__"))
+    memo = tmp_path / "memo.json"
+    first = _key_in(code, memo)
+    assert _key_in(code, memo) == first
+    seen = {first}
+    for module in ("sims/world.py", "sims/lua/host.py"):
+        path = code / module
+        path.write_text(path.read_text(encoding="utf-8") + "\n# edited\n", encoding="utf-8")
+        seen.add(_key_in(code, memo))
+    assert len(seen) == 3
 
 
 def test_a_failing_clip_is_reported_by_name_and_keeps_the_stale_render(tmp_path):
@@ -175,3 +218,17 @@ def test_identical_content_under_two_names_renders_once(tmp_path):
     assert [r.rendered for r in twins] == [True, False]
     assert twins[0].files == twins[1].files and twins[1].meta["name"] == "twin-b"
     assert ("twin-b", "cached") in [(e.name, e.status) for e in events]
+
+
+def test_a_clip_job_crosses_to_the_worker_as_itself():
+    """sims.clip_worker.ClipJob: the JSON line a worker reads gives back the same record."""
+    import json
+
+    from sims.clip_pool import Job
+    from sims.clip_worker import ClipJob
+
+    spec = small("j", "cart-reverse", camera="overview", formats=("replay", "video"))
+    job = ClipJob("render", spec, "sims.sources:scenario_plan", "/tmp/x", start=60, stop=120)
+    message = json.loads(json.dumps(Job(7, job, 30.0).message()))
+    assert message["id"] == 7
+    assert ClipJob.from_message(message) == dataclasses.replace(job, time_limit=30.0)

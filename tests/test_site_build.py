@@ -163,6 +163,23 @@ def test_duplicate_titles_get_distinct_urls(tmp_path):
     assert "index-2.html" in names  # a page may not take the home page's name
 
 
+def test_a_section_url_is_its_index_slug_else_its_folder_name(tmp_path):
+    """docs/DESIGN.md "Output URLs": a section's ``index.md`` ``slug:`` wins over its folder."""
+    src = write_tree(
+        tmp_path / "d",
+        {
+            "index.md": "# Home\n",
+            "02-Week One/index.md": "---\nslug: start\n---\n# W1\n",
+            "02-Week One/a.md": "# A\n",
+            "03-Week Two/index.md": "# W2\n",
+        },
+    )
+    run_build(src, tmp_path / "o")
+    assert (tmp_path / "o" / "start" / "a.html").is_file()
+    assert (tmp_path / "o" / "week-two" / "index.html").is_file()
+    assert not (tmp_path / "o" / "week-one").exists()
+
+
 def test_plain_folder_without_config_builds(tmp_path):
     src = write_tree(
         tmp_path / "notes",

@@ -13,10 +13,12 @@ clip cache key.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -147,12 +149,28 @@ def _check_out_shared(copy: Path) -> None:
         (copy / "shared").symlink_to(SHARED, target_is_directory=True)
 
 
+def _tools(folder: Path) -> str:
+    """A PATH whose ``python3``/``python`` is this interpreter and whose ``ruff`` is this
+    interpreter's, whatever is first on the caller's PATH (a venv run without activating it):
+    the steps' ``. .venv/bin/activate`` is a no-op here (:data:`LOCAL`)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    wrappers = {"python3": f'exec "{sys.executable}" "$@"'}
+    wrappers["python"] = wrappers["python3"]
+    if importlib.util.find_spec("ruff") is not None:
+        wrappers["ruff"] = f'exec "{sys.executable}" -m ruff "$@"'
+    for name, line in wrappers.items():
+        (folder / name).write_text(f"#!/bin/sh\n{line}\n", encoding="utf-8")
+        (folder / name).chmod(0o755)
+    return os.pathsep.join([str(folder), str(Path(sys.executable).parent), os.environ["PATH"]])
+
+
 def run_steps(wf_path: Path, copy: Path) -> list[str]:
     """Run every run: step of the workflow in the copy; return the names of those skipped."""
     wf = load(wf_path)
     skipped = []
     _check_out_shared(copy)
     env = {**os.environ, **{k: str(v) for k, v in (wf.get("env") or {}).items()}}
+    env["PATH"] = _tools(copy.parent / "tools")
     for job_name, job in wf["jobs"].items():
         job_env = {**env, **{k: str(v) for k, v in (job.get("env") or {}).items()}}
         for step in job.get("steps", []):

@@ -6,7 +6,8 @@ from typing import Any
 
 from sims.models.common import SceneModel
 
-SCENES = {"2w1a": "sims.models.twowheel_arm", "cart": "sims.models.cart"}
+#: scenes built in Python (``2w1a`` is a scene file: sims/scene/resolve.py FILE_SCENES)
+SCENES = {"cart": "sims.models.cart"}
 
 
 def build_scene(scene: str, client: int, seed: int, **options: Any) -> SceneModel:

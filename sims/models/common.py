@@ -49,7 +49,7 @@ class Closure:
 
 @dataclass(frozen=True)
 class JointRef:
-    """A named joint. CoppeliaSim angle = ``zero + sign * pybullet angle`` (radians).
+    """A named joint. CoppeliaSim angle = ``zero + pybullet angle`` (radians).
 
     Building each robot in its saved pose makes pybullet's zero that pose, so ``zero`` is the
     saved CoppeliaSim angle. ``lower``/``upper`` are CoppeliaSim limits (None = cyclic).
@@ -59,7 +59,6 @@ class JointRef:
     body: int
     index: int
     zero: float = 0.0
-    sign: float = 1.0
     max_force: float = 1.0
     position_gain: float = 0.1
     velocity_gain: float = 1.0

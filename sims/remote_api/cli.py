@@ -331,10 +331,8 @@ def record_clip(
     the line saying why EGL fell back (None: it did not).
 
     ``seconds``: the simulated length of the run (None: measured by a silent dry run)."""
-    from dataclasses import asdict
-
     from sims.clip_cache import FILES
-    from sims.clip_worker import render_job
+    from sims.clip_worker import ClipJob, render_job
     from sims.clips import ClipSpec
     from sims.render import fallback_note
 
@@ -371,12 +369,7 @@ def record_clip(
     stem.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="remote-api-clip-") as tmp:
         meta, fallback = render_job(
-            {
-                "spec": asdict(spec),
-                "target": TARGET,
-                "out_dir": tmp,
-                "time_limit": max(args.timeout, 60.0) * 4,
-            }
+            ClipJob("simulate", spec, TARGET, tmp, time_limit=max(args.timeout, 60.0) * 4)
         )
         written = []
         for kind, name in FILES.items():

@@ -27,7 +27,7 @@ def joint_force(world: Any, handle: int) -> float:
     if j.kind == "spherical":
         return 0.0
     torque = p.getJointState(j.body, j.index, physicsClientId=world.client_id)[3]
-    return float(j.sign * torque)
+    return float(torque)
 
 
 def joint_max_force(world: Any, handle: int) -> float:

@@ -30,7 +30,6 @@ from .runner import DEFAULT_TIMEOUT, run_script
 
 KIND = "script"
 TARGET = "sims.remote_api.script_clips:script_plan"  # its entry in sims.sources.SOURCE_KINDS
-PACKAGE_DIR = Path(__file__).resolve().parent
 MARGIN = 0.1  # s of clip after the measured end, so the recorder never cuts the script short
 
 #: Object names that identify a scene in a script's text.
@@ -55,10 +54,6 @@ def guess_scene(text: str) -> str | None:
         if any(re.search("['\"]" + re.escape(n) + "['\"#]", text) for n in names)
     ]
     return found[0] if len(found) == 1 else None
-
-
-def package_files() -> list[str]:
-    return [str(p) for p in sorted(PACKAGE_DIR.rglob("*.py"))]
 
 
 def resolve_params(script: Path, params: dict[str, Any]) -> dict[str, Any]:
@@ -152,7 +147,7 @@ def script_plan(spec: Any):
         ),
         source_path=str(script),
         params=params,
-        hash_files=[str(script), *run_files(params), *package_files()],
+        hash_files=[str(script), *run_files(params)],  # the code: clip_cache.clip_key
         drive=drive,
         joints=joints,
         joint_quantity=quantity,

@@ -2,8 +2,8 @@
 
 Two sources hold a World's looks, and the renderer draws both:
 
-- pybullet's own visual shapes (``getVisualShapeData``): the hand-built models (cart,
-  ``2w1a-hand``), the arena, obstacles and sitegen's checker floor. A frame given there is
+- pybullet's own visual shapes (``getVisualShapeData``): the models built in Python
+  (cart), the arena, obstacles and sitegen's checker floor. A frame given there is
   relative to the link's own (URDF) frame, which for a base is its centre of mass moved back
   by the inertial offset (measured; ``World.link_frame`` computes the same frame);
 - a scene file's looks (``model.data["looks"]``, sims/scene/bodies.py): every visible mesh

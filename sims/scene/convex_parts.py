@@ -17,8 +17,9 @@ hand does it, and it follows an outline to within a cell's width.
 
 Parts are kept as a Wavefront OBJ file, one object per part (pybullet loads such a file as a
 compound of hulls), each eroded by the 1 mm pybullet pads a hull with, named by the content
-(mesh and method), in the scene cache's folder
-(``sims.scene.scene_cache.cache_dir()/convex``; a temporary folder when the cache is off).
+(mesh, method and this module's code as :func:`located.code_keys.code_key` keys it), in the
+scene cache's folder (``sims.scene.scene_cache.cache_dir()/convex``; a temporary folder when the
+cache is off).
 """
 
 from __future__ import annotations
@@ -65,7 +66,9 @@ def decomposition(points: np.ndarray, triangles: np.ndarray) -> str:
     """The OBJ file of the mesh's convex parts (made once per content, then read back)."""
     points = np.ascontiguousarray(points, dtype=np.float64)
     triangles = np.ascontiguousarray(triangles, dtype=np.int64)
-    h = hashlib.sha256(METHOD.encode() + p.getAPIVersion().to_bytes(8, "little"))
+    from located.code_keys import code_key
+
+    h = hashlib.sha256(f"{METHOD}\0{code_key(__name__)}\0".encode())
     h.update(points.tobytes() + b"|" + triangles.tobytes())
     folder = _folder()
     target = folder / f"{h.hexdigest()[:40]}.obj"

@@ -3,7 +3,7 @@
 A bundled name (``"cart"``; ``"2w1a"``) stays a name; ``"2w1a"`` is built from the scene
 description shipped as package data in ``sims/scene/bundled/`` (derived from the course's
 ``2w1a.ttt``; installed with the package, so a wheel behaves as a checkout). A bundled file that
-is missing is an error (an incomplete install), never a silent fall back to the hand-built model.
+is missing is an error (an incomplete install).
 Anything else is a scene file path (``.ttt``, ``.simscene.xml``, or the repository's
 ``.scene.json``), loaded once per process and file version, and a ``.ttt`` or XML file decoded
 once per content across processes (sims/scene/scene_cache.py; loading a scene runs nothing). A
@@ -22,8 +22,6 @@ from sims.models import SCENES
 BUNDLED_SCENES = Path(__file__).resolve().parent / "bundled"
 #: Bundled names served from a scene description in sims/scene/bundled/ (the file is the truth).
 FILE_SCENES = {"2w1a": "2w1a.scene.json"}
-#: The hand-built model stays reachable under this name (benchmarks, comparisons).
-HAND_SCENES = {"2w1a-hand": "2w1a"}
 
 
 class SceneFileError(ValueError):
@@ -31,7 +29,7 @@ class SceneFileError(ValueError):
 
 
 def bundled_names() -> list[str]:
-    return sorted(set(SCENES) | set(HAND_SCENES))
+    return sorted(set(SCENES) | set(FILE_SCENES))
 
 
 def bundled_file(name: str) -> Path:
@@ -46,17 +44,14 @@ def bundled_file(name: str) -> Path:
 
 
 def is_bundled(name: Any) -> bool:
-    return isinstance(name, str) and (name in SCENES or name in HAND_SCENES)
+    return isinstance(name, str) and (name in SCENES or name in FILE_SCENES)
 
 
 def open_scene(name_or_path: str | os.PathLike[str]) -> Any:
     """A bundled scene name (str, for sims.models) or a loaded Scene model."""
-    if isinstance(name_or_path, str) and name_or_path in HAND_SCENES:
-        return HAND_SCENES[name_or_path]
+    if isinstance(name_or_path, str) and name_or_path in FILE_SCENES:
+        return load_file(bundled_file(name_or_path))
     if isinstance(name_or_path, str) and name_or_path in SCENES:
-        shipped = FILE_SCENES.get(name_or_path)
-        if shipped:
-            return load_file(bundled_file(name_or_path))
         return name_or_path
     path = Path(name_or_path).expanduser()
     if not path.is_file():

@@ -5,7 +5,8 @@ the in-process memo in sims/scene/resolve.py never sees a second read; decoding 
 ``2w1a.ttt`` (Huffman tables, then the objects) takes 0.3-0.4 s of a 2-3 s run, reading it back
 from here about 0.05 s.
 
-Key: sha256 over the readers' own source (every ``sims/scene/*.py``, so a changed reader never
+Key: sha256 over the readers' code (:func:`located.code_keys.code_key` of ``sims.scene.load``:
+the modules a decoding runs, their data files and library versions, so a changed reader never
 serves an old decoding) and the file's bytes (never its name, time or place). Entry:
 ``<key>.json``, the :class:`sims.scene.model.Scene` written field by field with floats in full
 (``repr``) precision, read back through the checked reader of sims/scene/jsonfile.py: a cache file
@@ -38,7 +39,8 @@ from sims.scene.model import Scene
 FORMAT = "sitegen-scene-cache/1"
 ENV = "SITEGEN_SCENE_CACHE"
 MAX_ENTRIES = 64
-READERS = Path(__file__).resolve().parent
+#: the module scene files are decoded from (sims/scene/resolve.py ``_decode``)
+READERS = "sims.scene.load"
 
 
 def cache_dir() -> Path | None:
@@ -58,11 +60,11 @@ def cache_dir() -> Path | None:
 
 @lru_cache(maxsize=1)
 def readers_digest() -> str:
-    """Digest of the scene readers' source files (names and bytes), once per process."""
-    h = hashlib.sha256(FORMAT.encode())
-    for path in sorted(READERS.glob("*.py")):
-        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
-    return h.hexdigest()
+    """The key of the code that decodes (:data:`READERS`) and stores a scene (this module and
+    its JSON reader): their import closure, once per process."""
+    from located.code_keys import code_key
+
+    return hashlib.sha256(f"{FORMAT}\0{code_key(READERS, __name__)}".encode()).hexdigest()
 
 
 def key_for(data: bytes) -> str:

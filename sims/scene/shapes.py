@@ -99,11 +99,6 @@ def geometry(part: Part) -> tuple[dict, dict] | None:
     return col, vis
 
 
-def is_primitive(part: Part) -> bool:
-    g = geometry(part)
-    return g is not None and g[0]["shapeType"] != p.GEOM_MESH
-
-
 def create_collision(client: int, part: Part, fixed: bool) -> int:
     """A collision shape for one part (-1 if it has no geometry). A mesh on a moving link
     collides as its convex hull; fixed geometry keeps its triangles."""
@@ -177,11 +172,6 @@ def create_visual(client: int, part: Part) -> int:
         specularColor=(0.1, 0.1, 0.1),
         physicsClientId=client,
     )
-
-
-def set_filter(client: int, body: int, link: int, respondable: bool) -> None:
-    group, mask = (RESPONDABLE, RESPONDABLE | RAY) if respondable else (DETECTABLE, RAY)
-    p.setCollisionFilterGroupMask(body, link, group, mask, physicsClientId=client)
 
 
 def mask_allows(mask_a: int, mask_b: int, same_model: bool) -> bool:

@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import replace
-from pathlib import Path
 from xml.parsers import expat as pyexpat
 
 from sims.scene.errors import SceneError
@@ -423,10 +422,6 @@ def _force_sensor(el: ET.Element) -> ForceSensorData:
         if torque and flag(el, "torque/thresholdEnabled", False)
         else None,
     )
-
-
-def read_xml_file(path: Path) -> Scene:
-    return read_xml(path.read_bytes(), str(path))
 
 
 DETECTABLE_TAGS = (

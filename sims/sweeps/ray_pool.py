@@ -24,11 +24,12 @@ from .ray_runs import import_ray
 _worlds: Any = None  # the Ray worker's render World, kept between ranges (clip_worker.WorldCache)
 
 
-def clip_task(job: dict[str, Any], cwd: str) -> dict[str, Any]:
+def clip_task(message: dict[str, Any], cwd: str) -> dict[str, Any]:
     """One clip job in a Ray worker: ``{"ok", "result"}`` or ``{"ok": False, "error"}``."""
     global _worlds
-    from sims.clip_worker import WorldCache, outcome, run_phase
+    from sims.clip_worker import ClipJob, WorldCache, outcome, run_phase
 
+    job = ClipJob.from_message(message)
     if _worlds is None:
         _worlds = WorldCache()
     here = os.getcwd()
@@ -72,8 +73,7 @@ class RayPool:
                 job = next_job(None)
                 if job is None:
                     break
-                payload = {**job.payload, "id": job.id, "time_limit": job.limit}
-                self._flying[task.remote(payload, cwd)] = job
+                self._flying[task.remote(job.message(), cwd)] = job
             if not self._flying:
                 return
             done, _ = ray.wait(list(self._flying), num_returns=1)

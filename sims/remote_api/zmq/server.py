@@ -26,7 +26,6 @@ import threading
 from typing import Any, NoReturn
 
 from ..client import Session, script_site
-from ..commands import CommandError
 from . import paths
 from .constants import CONSTANTS
 from .registry import NOT_EMULATED
@@ -136,32 +135,6 @@ class ZmqServer:
         if isinstance(value, float) and value.is_integer():
             return int(value)
         self.fail("argument", f"argument {position}: object handle expected, got {value!r}", func)
-
-    def number_arg(self, value: Any, func: str, position: int) -> float:
-        if isinstance(value, numbers.Real) and not isinstance(value, bool):
-            return float(value)
-        self.fail("argument", f"argument {position}: number expected, got {value!r}", func)
-
-    def vector_arg(self, value: Any, n: int, func: str, position: int) -> list[float]:
-        if not isinstance(value, list) or len(value) < n:
-            self.fail("argument", f"argument {position}: table of {n} numbers expected", func)
-        return [self.number_arg(v, func, position) for v in value[:n]]
-
-    def string_arg(self, value: Any, func: str, position: int) -> str:
-        if isinstance(value, str):
-            return value
-        if isinstance(value, (bytes, bytearray)):
-            return bytes(value).decode("utf-8", "replace")
-        self.fail("argument", f"argument {position}: string expected, got {value!r}", func)
-
-    def world_call(self, func: str, run, *args: Any) -> Any:
-        """Run a legacy ``commands`` function, turning its CommandError into this API's error."""
-        try:
-            return run(self.world, *args)
-        except (CommandError, KeyError) as exc:
-            text = str(exc).strip("'\"")
-            kind = "handle" if "does not exist" in text else "argument"
-            self.fail(kind, text, func)
 
     # --- stepping ---------------------------------------------------------------------------
     # CoppeliaSim's ZeroMQ add-on: while any client steps, a simulation pass happens once every
