@@ -169,9 +169,11 @@ def render_clips(
         followers[key] = []
         tmp = Path(tempfile.mkdtemp(prefix=f".tmp-{key}-", dir=cache_dir))
         tmp.chmod(0o755)
-        length = spec.seconds if spec.seconds is not None else plan.duration
         limit = spec.timeout if spec.timeout is not None else timeout
-        frames = frame_count(length, spec.fps, spec.speed) if "video" in spec.formats else 0
+        frames = 0
+        if "video" in spec.formats:  # the worker reports the real count of a measured length
+            known = spec.seconds is not None or plan.length_known
+            frames = frame_count(plan.length(spec.seconds), spec.fps, spec.speed) if known else 1
         todo.append(ClipRun(i, spec, key, target, tmp, frames, limit))
         notify(ClipEvent(spec.name, "queued", total=todo[-1].total))
     if todo:

@@ -33,6 +33,9 @@ class RecordingPlan:
     ``hash_files`` are the files whose bytes identify this source's behaviour (the scenario
     file, a course script...); the engine's own files are added by sims.clip_cache.
     ``drive(world, record)`` runs inside a started Recorder and may simply return early.
+    ``measure``: for a source whose length is only known by running it (a course script
+    without ``seconds``), the dry run that finds it; :meth:`length` calls it once, when a clip
+    is actually rendered, so building a key (every build, cached or not) runs nothing.
     """
 
     scene: str
@@ -48,6 +51,21 @@ class RecordingPlan:
     joints: tuple[str, ...] = ()
     joint_quantity: str = "angle"
     extra_columns: tuple[str, ...] = ()
+    measure: Callable[[], float] | None = None
+
+    def length(self, seconds: float | None = None) -> float:
+        """The clip's simulated length: ``seconds`` when given, else the plan's duration
+        (measured now, once, if the plan has a ``measure``)."""
+        if seconds is not None:
+            return seconds
+        if self.measure is not None:
+            self.duration, self.measure = float(self.measure()), None
+        return self.duration
+
+    @property
+    def length_known(self) -> bool:
+        """Whether :meth:`length` is known without running the source."""
+        return self.measure is None
 
 
 class StopRecording(BaseException):
@@ -267,7 +285,7 @@ def record(
     ``speed``-th one (:func:`frame_count` of them); ``on_sample`` sees every sample and the
     end state (a replay).
     """
-    length = plan.duration if seconds is None else seconds
+    length = plan.length(seconds)
     with World(plan.scene, seed=plan.seed, render_with=render_with, **plan.scene_options) as world:
         recorder = Recorder(
             world,

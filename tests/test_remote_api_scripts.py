@@ -127,10 +127,13 @@ def test_cart_script_drives_backwards(capsys, monkeypatch):
 
 @needs_cart_script
 def test_realtime_paces_by_the_wall_clock(capsys):
+    """Real time: the simulation never runs ahead of the wall clock (unpaced, this run takes
+    a quarter of its simulated time). Only "not ahead" is asserted: how closely a loaded
+    machine keeps up is a benchmark's question, not a test's."""
     result = run_script(CART, "cart", realtime=True, after=0.6)
     assert result.ok, result.message
-    assert result.wall_time >= 0.6
-    assert result.sim_time == pytest.approx(result.clock_time, abs=0.1)
+    assert result.sim_time > 0.6
+    assert result.wall_time >= result.sim_time and result.clock_time >= result.sim_time - 0.01
 
 
 @needs_cart_script
@@ -416,7 +419,7 @@ def test_script_clip_kind_renders_and_keys_by_content(tmp_path):
         name="drive", scenario=str(script), kind="script", width=160, height=120, fps=10, seed=3
     )
     plan = script_plan(spec)
-    assert plan.scene == "cart" and 2.0 < plan.duration < 3.5
+    assert plan.scene == "cart" and 2.0 < plan.length() < 3.5
     key = clip_cache.clip_key(spec_fields(spec, plan.seed, plan.params), plan.hash_files)
     script.write_text(script.read_text(encoding="utf-8") + "\n# changed\n", encoding="utf-8")
     plan2 = script_plan(spec)
@@ -425,3 +428,35 @@ def test_script_clip_kind_renders_and_keys_by_content(tmp_path):
     assert result.ok, result.error
     assert result.files["video"].stat().st_size > 0
     assert result.meta["scene"] == "cart"
+
+
+def test_a_script_clip_without_seconds_runs_only_when_rendered(tmp_path, monkeypatch):
+    """Every build plans every clip (to find its cache key): planning a script clip without
+    ``seconds`` runs nothing; rendering it runs the script twice (the dry run that measures
+    its length, then the filmed run), and the measured length is the filmed one."""
+    from sims.clips import ClipSpec, planned
+    from sims.recording import record
+    from sims.remote_api import script_clips
+
+    runs: list[str] = []
+    real = script_clips.run_script
+
+    def counted(*args, **kwargs):
+        runs.append("world" if kwargs.get("world") is not None else "dry")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(script_clips, "run_script", counted)
+    script = _script(
+        tmp_path,
+        (EXAMPLES / "cart_obstacles.py").read_text(encoding="utf-8").replace("< 20", "< 2"),
+        name="drive.py",
+    )
+    spec = ClipSpec(name="drive", scenario=str(script), kind="script", fps=10, seed=5)
+    _, plan, key = planned(spec)
+    _, _, again = planned(spec)
+    assert runs == [] and key == again and not plan.length_known
+    length = plan.length()
+    assert runs == ["dry"] and plan.length() == length and 2.0 < length < 3.5
+    recording, _ = record(plan, fps=10)
+    assert runs == ["dry", "world"]
+    assert recording.column("t")[-1] == pytest.approx(length - 0.1, abs=0.15)

@@ -9,7 +9,8 @@ Python's ``random`` for the script (default 0).
 
 The clip shows simulated time (the Recorder films physics steps), so the pauses between
 simulations are not in it. Its length is the script's simulated duration: ``spec.seconds`` if
-given, else measured by a silent dry run (memoised per script content in this process). The
+given, else measured by a silent dry run in the worker that renders it (memoised per script
+content in that process; never when the clip comes from the cache). The
 cache key covers the script's bytes and this package's source files (``hash_files``).
 
 Declared in ``sims.sources.SOURCE_KINDS`` (``"script"``); nothing registers it by import.
@@ -123,6 +124,7 @@ def script_plan(spec: Any):
     if spec.seconds is not None and "timeout" not in spec.params:
         params["timeout"] = clock_limit(float(spec.seconds))
     seed = 0 if spec.seed is None else int(spec.seed)
+    duration, dry_run = 0.0, None
     if spec.seconds is not None:
         duration = float(spec.seconds)
     else:
@@ -131,7 +133,9 @@ def script_plan(spec: Any):
             if params[key]:
                 digest.update(Path(params[key]).read_bytes())
         frozen = tuple(sorted((k, repr(v)) for k, v in params.items()))
-        duration = measure(str(script), digest.hexdigest(), seed, frozen)
+
+        def dry_run() -> float:  # only when the clip is rendered (RecordingPlan.length)
+            return measure(str(script), digest.hexdigest(), seed, frozen)
     joints, quantity = JOINTS.get(params["scene"], ((), "angle"))
 
     def drive(world: Any, record: Any) -> None:
@@ -152,6 +156,7 @@ def script_plan(spec: Any):
         joints=joints,
         joint_quantity=quantity,
         extra_columns=("simulation",),
+        measure=dry_run,
     )
 
 
