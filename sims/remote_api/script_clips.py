@@ -136,6 +136,7 @@ def script_plan(spec: Any):
 
         def dry_run() -> float:  # only when the clip is rendered (RecordingPlan.length)
             return measure(str(script), digest.hexdigest(), seed, frozen)
+
     joints, quantity = JOINTS.get(params["scene"], ((), "angle"))
 
     def drive(world: Any, record: Any) -> None:
