@@ -149,6 +149,7 @@ def text_report(scene: Scene) -> str:
                 f"  {s.kind} ({where}){' ' + ', '.join(flags) if flags else ''}: {n} lines"
             )
     lines += mechanism_lines(scene)
+    lines += texture_lines(scene)
     lines.append("")
     if scene.notes:
         lines.append("Not understood or not used:")
@@ -282,6 +283,35 @@ def _json_object(scene: Scene, o: SceneObject, paths: dict[int, str]) -> dict:
         if data is not None:
             item[key] = {k: _round(v) for k, v in vars(data).items()}
     return item
+
+
+def texture_lines(scene: Scene) -> list[str]:
+    """Each texture object and the shapes that wear it, with the mapping understood."""
+    if not scene.textures:
+        return []
+    lines = ["", "Textures:"]
+    for t in scene.textures:
+        worn = []
+        for o in scene.objects:
+            for m in o.shape.meshes if o.shape is not None else ():
+                if m.texture is not None and m.texture.texture == t.id:
+                    x = m.texture
+                    how = f"{x.mode} {_r(x.scaling[0], 4)} x {_r(x.scaling[1], 4)} m"
+                    if x.coordinates:
+                        how = "fixed coordinates"
+                    flags = [
+                        f
+                        for f, on in (
+                            ("repeat u", x.repeat_u),
+                            ("repeat v", x.repeat_v),
+                            ("interpolated", x.interpolate),
+                        )
+                        if on
+                    ]
+                    worn.append(f"{_clean(o.name)} ({', '.join([how, x.apply, *flags])})")
+        on = "; ".join(worn) if worn else "not used by any shape"
+        lines.append(f"  {_clean(t.name)} [{t.id}] {t.width}x{t.height}: {on}")
+    return lines
 
 
 def _json_head(scene: Scene) -> dict:
