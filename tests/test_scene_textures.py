@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import struct
 
@@ -24,7 +25,7 @@ from sims.scene.model import (
     TextureMapping,
     VisionSensorData,
 )
-from sims.scene.show import text_report
+from sims.scene.show import json_report, text_report
 from sims.scene.textures import read_texture_object, texture_coordinates
 from sims.scene.ttt_chunks import Chunk, ChunkError
 from sims.world import World
@@ -134,6 +135,9 @@ def test_the_line_followers_sensors_see_the_floor_texture():
     assert "garageConcrete3 [2180009] 256x256: ResizableFloor_5_25_visibleElement" in (
         text_report(scene)
     )
+    (listed,) = json.loads(json_report(scene))["textures"]
+    assert [w["shape"] for w in listed["worn_by"]] == ["ResizableFloor_5_25_visibleElement"] * 2
+    assert listed["worn_by"][0]["mode"] == "plane" and listed["worn_by"][0]["repeat_u"]
     texels = np.frombuffer(image.rgba, np.uint8).reshape(256, 256, 4)[:, :, :3].mean(axis=2)
     with World(scene) as w:
         for name in ("LeftSensor", "MiddleSensor", "RightSensor"):

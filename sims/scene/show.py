@@ -285,32 +285,48 @@ def _json_object(scene: Scene, o: SceneObject, paths: dict[int, str]) -> dict:
     return item
 
 
-def texture_lines(scene: Scene) -> list[str]:
-    """Each texture object and the shapes that wear it, with the mapping understood."""
-    if not scene.textures:
-        return []
-    lines = ["", "Textures:"]
+def textures(scene: Scene) -> list[dict]:
+    """Each texture object (no pixels) and the meshes that wear it, with the mapping understood."""
+    out = []
     for t in scene.textures:
         worn = []
         for o in scene.objects:
             for m in o.shape.meshes if o.shape is not None else ():
-                if m.texture is not None and m.texture.texture == t.id:
-                    x = m.texture
-                    how = f"{x.mode} {_r(x.scaling[0], 4)} x {_r(x.scaling[1], 4)} m"
-                    if x.coordinates:
-                        how = "fixed coordinates"
-                    flags = [
-                        f
-                        for f, on in (
-                            ("repeat u", x.repeat_u),
-                            ("repeat v", x.repeat_v),
-                            ("interpolated", x.interpolate),
-                        )
-                        if on
-                    ]
-                    worn.append(f"{_clean(o.name)} ({', '.join([how, x.apply, *flags])})")
+                x = m.texture
+                if x is None or x.texture != t.id:
+                    continue
+                worn.append(
+                    {
+                        "shape": o.name,
+                        "mode": "fixed coordinates" if x.coordinates else x.mode,
+                        "scaling": [_r(v, 4) for v in x.scaling],
+                        "apply": x.apply,
+                        "repeat_u": x.repeat_u,
+                        "repeat_v": x.repeat_v,
+                        "interpolate": x.interpolate,
+                    }
+                )
+        out.append({"id": t.id, "name": t.name, "size": [t.width, t.height], "worn_by": worn})
+    return out
+
+
+def texture_lines(scene: Scene) -> list[str]:
+    found = textures(scene)
+    if not found:
+        return []
+    lines = ["", "Textures:"]
+    for t in found:
+        worn = []
+        for w in t["worn_by"]:
+            how = w["mode"]
+            if how != "fixed coordinates":
+                how += f" {w['scaling'][0]} x {w['scaling'][1]} m"
+            flags = [f for f, key in (("repeat u", "repeat_u"), ("repeat v", "repeat_v"),
+                                      ("interpolated", "interpolate")) if w[key]]  # fmt: skip
+            worn.append(f"{_clean(w['shape'])} ({', '.join([how, w['apply'], *flags])})")
         on = "; ".join(worn) if worn else "not used by any shape"
-        lines.append(f"  {_clean(t.name)} [{t.id}] {t.width}x{t.height}: {on}")
+        width, height = t["size"]
+        lines.append(f"  {_clean(t['name'])} [{t['id']}] {width}x{height}: {on}")
     return lines
 
 
@@ -332,6 +348,7 @@ def _json_head(scene: Scene) -> dict:
             for s in scene.scripts
         ],
         "notes": [{"where": n.where, "message": n.message} for n in scene.notes],
+        "textures": textures(scene),
         **mechanisms(scene),
     }
 
