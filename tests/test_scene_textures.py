@@ -251,3 +251,14 @@ def test_a_cart_follows_a_line_it_sees_only_through_the_floor_texture():
     assert max(off) < 0.03
     travelled = np.unwrap(angles)[-1] - np.unwrap(angles)[0]
     assert travelled > math.radians(90)  # counter-clockwise, round the centre on its left
+
+
+@pytest.mark.needs_shared("data", "scenes", "course", "simpleLineFollower_api.ttt")
+def test_writing_xml_says_the_textures_are_left_out(tmp_path, capsys):
+    from sims.scene.show import main
+
+    path = shared("data", "scenes", "course", "simpleLineFollower_api.ttt")
+    assert main(["xml", str(path), "-o", str(tmp_path / "out.simscene.xml")]) == 0
+    assert "note: textures not written (garageConcrete3)" in capsys.readouterr().err
+    assert main(["xml", "-q", str(path), "-o", str(tmp_path / "out.simscene.xml")]) == 0
+    assert capsys.readouterr().err == ""

@@ -418,6 +418,13 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
         from sims.scene.xml_write import write_xml
 
         text = write_xml(scene)
+        if scene.textures and args.verbosity >= 0:  # nothing the user gave is dropped unsaid
+            names = ", ".join(_clean(t.name) for t in scene.textures)
+            print(
+                f"{_clean(args.path)}: note: textures not written ({names}): CoppeliaSim's "
+                "simple XML format has none",
+                file=sys.stderr,
+            )
         if args.output:
             try:
                 with open(args.output, "w", encoding="utf-8", newline="\n") as fh:
