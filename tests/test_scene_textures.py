@@ -33,7 +33,7 @@ from sims.world import World
 DOWN = (1.0, 0.0, 0.0, 0.0)  # 180° about x: the sensor's +z looks down, its +y along world -y
 
 
-def plate_scene() -> Scene:
+def plate_scene(color=(1.0, 1.0, 1.0), apply="modulate") -> Scene:
     """A 1 m plate at z = 0 wearing an 8 x 8 texture: a dark block at texture rows 0-1 and
     columns 0-1 (v = 0 is y = -0.5, u = 0 is x = -0.5 in plane mapping) and a dark column 6
     (x from 0.25 to 0.375); an orthographic sensor 1 m above sees exactly the plate."""
@@ -41,11 +41,11 @@ def plate_scene() -> Scene:
     tex[0:2, 0:2, :3] = 0
     tex[:, 6, :3] = 40
     image = TextureImage(7, "marks", 8, 8, tex.tobytes())
-    mapping = TextureMapping(7, image=image)
+    mapping = TextureMapping(7, image=image, apply=apply)
     plate = Mesh(
         vertices=(-0.5, -0.5, 0, 0.5, -0.5, 0, 0.5, 0.5, 0, -0.5, 0.5, 0),
         indices=(0, 1, 2, 0, 2, 3),
-        color=(1.0, 1.0, 1.0),
+        color=color,
         texture=mapping,
     )
     sensor = VisionSensorData(
@@ -81,6 +81,16 @@ def test_a_sensor_sees_the_texture_where_coppeliasim_lays_it():
         assert grey[pixel(0.1, y)] == pytest.approx(light, abs=10)
     with World(plate_scene()) as other:  # a second world draws the same bytes
         assert render_sensor(other, "eye").tobytes() == again.tobytes()
+
+
+def test_a_red_mesh_modulates_its_texture_and_a_decal_shows_the_texture_itself():
+    centre = pixel(0.0, 0.0)
+    with World(plate_scene(color=(1.0, 0.0, 0.0))) as w:
+        red = render_sensor(w, "eye")[centre].astype(int)
+    with World(plate_scene(color=(1.0, 0.0, 0.0), apply="decal")) as w:
+        decal = render_sensor(w, "eye")[centre].astype(int)
+    assert red[0] > 100 and red[1] == red[2] == 0
+    assert decal[0] == decal[1] == decal[2] > 100  # the texture's white
 
 
 def test_texture_coordinates_follow_the_mapping():

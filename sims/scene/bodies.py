@@ -316,9 +316,7 @@ def create_visuals(client: int, looks: list) -> list[Visual]:
             0, -1, vis, basePosition=frame[0], baseOrientation=frame[1], physicsClientId=client
         )
         # set again on the body: pybullet's EGL renderer takes colours from here only
-        p.changeVisualShape(
-            v_uid, -1, rgbaColor=(*part.mesh.color, part.mesh.opacity), physicsClientId=client
-        )
+        p.changeVisualShape(v_uid, -1, rgbaColor=S.look_color(part.mesh), physicsClientId=client)
         texture = part.mesh.texture
         if texture is not None and texture.image is not None and S.textured_mesh(part):
             path = texture_file(texture.image, not texture.repeat_u, not texture.repeat_v)

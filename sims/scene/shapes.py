@@ -191,6 +191,15 @@ def textured_mesh(part: Part) -> str | None:
     return mesh_file(_mesh_points(m), list(m.indices), uvs)
 
 
+def look_color(mesh: Mesh) -> tuple[float, float, float, float]:
+    """The colour a mesh is drawn in: its own, or white under a decal texture (CoppeliaSim's
+    decal mode shows the texture's colours, not the mesh's; pybullet modulates)."""
+    texture = mesh.texture
+    if texture is not None and texture.image is not None and texture.apply == "decal":
+        return (1.0, 1.0, 1.0, mesh.opacity)
+    return (*mesh.color, mesh.opacity)
+
+
 def create_visual(client: int, part: Part) -> int:
     """A visual shape for one visible part in its colour (-1 if invisible or empty)."""
     if not (part.visible and part.mesh.visible) or part.mesh.wireframe:
@@ -203,7 +212,7 @@ def create_visual(client: int, part: Part) -> int:
             meshScale=(1.0, 1.0, 1.0),
             visualFramePosition=part.pose.position,
             visualFrameOrientation=part.pose.quaternion,
-            rgbaColor=(*part.mesh.color, part.mesh.opacity),
+            rgbaColor=look_color(part.mesh),
             specularColor=(0.1, 0.1, 0.1),
             physicsClientId=client,
         )
@@ -221,7 +230,7 @@ def create_visual(client: int, part: Part) -> int:
         **vis,
         visualFramePosition=part.pose.position,
         visualFrameOrientation=part.pose.quaternion,
-        rgbaColor=(*part.mesh.color, part.mesh.opacity),
+        rgbaColor=look_color(part.mesh),
         specularColor=(0.1, 0.1, 0.1),
         physicsClientId=client,
     )
