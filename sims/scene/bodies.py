@@ -19,6 +19,7 @@ from sims.quiet import pybullet as p
 from sims.quiet import quiet_fd
 from sims.scene import shapes as S
 from sims.scene.model import SceneObject
+from sims.scene.textures import texture_file
 
 VIRTUAL_MASS, VIRTUAL_INERTIA = 0.1, 1e-4  # a joint's link when no dynamic shape hangs on it
 DEFAULT_FRICTION = 0.71  # CoppeliaSim's default Bullet friction for a shape
@@ -306,6 +307,7 @@ def create_visuals(client: int, looks: list) -> list[Visual]:
     """The visual-only bodies of a scene (made when it is first drawn, so that runs that draw
     nothing do not pay for them); those on moving links are returned for ``sync_visuals``."""
     out: list[Visual] = []
+    loaded: dict[str, int] = {}  # texture file -> pybullet texture id, once per client
     for uid, row, moving, frame, part in looks:
         vis = S.create_visual(client, part)
         if vis < 0:
@@ -314,7 +316,13 @@ def create_visuals(client: int, looks: list) -> list[Visual]:
             0, -1, vis, basePosition=frame[0], baseOrientation=frame[1], physicsClientId=client
         )
         # set again on the body: pybullet's EGL renderer takes colours from here only
-        p.changeVisualShape(v_uid, -1, rgbaColor=(*part.mesh.color, 1.0), physicsClientId=client)
+        p.changeVisualShape(v_uid, -1, rgbaColor=S.look_color(part.mesh), physicsClientId=client)
+        texture = part.mesh.texture
+        if texture is not None and texture.image is not None and S.textured_mesh(part):
+            path = texture_file(texture.image, not texture.repeat_u, not texture.repeat_v)
+            if path not in loaded:
+                loaded[path] = p.loadTexture(path, physicsClientId=client)
+            p.changeVisualShape(v_uid, -1, textureUniqueId=loaded[path], physicsClientId=client)
         if moving:
             out.append(Visual(v_uid, uid, row, IDENTITY_TF))
     return out

@@ -21,13 +21,30 @@ from sims.scene.model import VisionSensorData
 MAX_SIDE = 1024  # px: larger saved resolutions are refused (render time)
 
 
+BACK_OFF = 100.0  # an orthographic sensor's eye sits this many times its depth range behind it
+
+
+def _back_off(data: VisionSensorData) -> float:
+    return BACK_OFF * max(data.far, data.ortho_size)
+
+
 def _projection(data: VisionSensorData, width: int, height: int) -> list[float]:
     near, far = max(data.near, 1e-4), max(data.far, data.near + 1e-3)
     if not data.perspective:
+        # pybullet's TinyRenderer draws nothing through an orthographic matrix (measured:
+        # glOrtho's, and computeProjectionMatrix is glFrustum, a wide perspective), so an
+        # orthographic sensor is drawn as a perspective from far behind it whose view spans
+        # ortho_size at the sensor: straight rays to within (far - near) / BACK_OFF.
+        back = _back_off(data)
         half = data.ortho_size / 2
         ratio = width / height
-        hx, hy = (half, half / ratio) if width >= height else (half * ratio, half)
-        return list(p.computeProjectionMatrix(-hx, hx, -hy, hy, near, far))
+        hy = half if width < height else half / ratio
+        vertical = 2 * math.atan(hy / back)
+        return list(
+            p.computeProjectionMatrixFOV(
+                math.degrees(vertical), width / height, back + near, back + far
+            )
+        )
     angle = min(max(data.view_angle, 1e-3), math.pi - 1e-3)
     if width >= height:
         vertical = 2 * math.atan(math.tan(angle / 2) * height / width)
@@ -52,7 +69,11 @@ def capture_sensor(world: Any, name: str) -> tuple[VisionSensorData, np.ndarray,
     z = (m[2], m[5], m[8])
     y = (m[1], m[4], m[7])
     target = (pos[0] + z[0], pos[1] + z[1], pos[2] + z[2])
-    view = p.computeViewMatrix(pos, target, y)
+    eye = tuple(pos)
+    if not sensor.perspective:
+        back = _back_off(sensor)
+        eye = (pos[0] - back * z[0], pos[1] - back * z[1], pos[2] - back * z[2])
+    view = p.computeViewMatrix(eye, target, y)
     with quiet_fd(1), quiet_fd(2):
         img = p.getCameraImage(
             width,

@@ -2,12 +2,15 @@
 
 The file is the :class:`sims.scene.model.Scene` dataclasses written field by field, leaving out
 fields equal to their default; floats are rounded to 7 significant digits (what a ``.ttt``
-stores, single precision). ``write_json`` output is deterministic (sorted keys). Reading checks
-every field name and says which object and field is wrong; it never evaluates anything.
+stores, single precision); bytes (a texture's pixels) are base64 text. A mesh's texture
+mapping is written without its image, which ``Scene.textures`` holds once and reading attaches
+again. ``write_json`` output is deterministic (sorted keys). Reading checks every field name
+and says which object and field is wrong; it never evaluates anything.
 """
 
 from __future__ import annotations
 
+import base64
 import dataclasses
 import functools
 import json
@@ -17,6 +20,8 @@ from pathlib import Path
 from typing import Any
 
 from sims.scene import model as M
+from sims.scene.limits import LimitError, TextureBudget
+from sims.scene.textures import attach_images
 
 FORMAT = "sitegen-scene/1"
 
@@ -29,6 +34,8 @@ def _plain(value: Any) -> Any:
     if dataclasses.is_dataclass(value):
         out = {}
         for f in dataclasses.fields(value):
+            if isinstance(value, M.TextureMapping) and f.name == "image":
+                continue  # held once in Scene.textures
             v = getattr(value, f.name)
             default = (
                 f.default
@@ -47,6 +54,8 @@ def _plain(value: Any) -> Any:
         return [_plain(v) for v in value]
     if isinstance(value, float):
         return float(f"{value:.7g}")
+    if isinstance(value, bytes):
+        return base64.b64encode(value).decode("ascii")
     return value
 
 
@@ -166,9 +175,35 @@ def _value(hint: Any, data: Any, where: str) -> Any:
         raise SceneJSONError(f"{where}: expected an integer")
     if hint is str and not isinstance(data, str):
         raise SceneJSONError(f"{where}: expected a string")
+    if hint is bytes:
+        if not isinstance(data, str):
+            raise SceneJSONError(f"{where}: expected base64 text")
+        try:
+            return base64.b64decode(data, validate=True)
+        except ValueError as exc:
+            raise SceneJSONError(f"{where}: not base64 ({exc})") from None
     if hint is bool and not isinstance(data, bool):
         raise SceneJSONError(f"{where}: expected true or false")
     return data
+
+
+def with_textures(scene: M.Scene, where: str) -> M.Scene:
+    """The scene read back with its texture objects checked (limits, pixel count) and given
+    again to the meshes that wear them."""
+    budget = TextureBudget()
+    for t in scene.textures:
+        try:
+            budget.take(t.name, t.width, t.height)
+        except LimitError as exc:
+            raise SceneJSONError(f"{where}: {exc}") from None
+        if len(t.rgba) != 4 * t.width * t.height or min(t.width, t.height) <= 0:
+            raise SceneJSONError(f"{where}: texture {t.name!r}: pixels do not match its size")
+    objects = list(scene.objects)
+    missing = attach_images(objects, {t.id: t for t in scene.textures})
+    if missing:
+        raise SceneJSONError(f"{where}: {missing[0]}: its texture is not in the file")
+    scene = dataclasses.replace(scene, objects=tuple(objects))
+    return scene
 
 
 def read_json(path: Path) -> M.Scene:
@@ -179,5 +214,6 @@ def read_json(path: Path) -> M.Scene:
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise SceneJSONError(f"{path}: not a {FORMAT} file")
     scene = _build(M.Scene, data.get("scene"), str(path))
+    scene = with_textures(scene, str(path))
     source = f"{path} (from {scene.source})" if scene.source else str(path)
     return dataclasses.replace(scene, source=source, format="json")

@@ -34,6 +34,11 @@ MAX_DEPTH = 256
 #: XML elements and attributes in a ``.simscene.xml`` (the course's XML scene: 2,267); each
 #: costs about 85 bytes in the parsed tree, so a file of empty elements cannot fill memory
 MAX_XML_ITEMS = 1_000_000
+#: a texture's width or height in pixels (course scenes: 256)
+MAX_TEXTURE_SIDE = 4096
+#: pixels in all the scene's textures together (course scenes: 131,072): each costs 4 bytes
+#: read and more drawn, for every World that renders the scene
+MAX_TEXTURE_PIXELS = 16 * 1024 * 1024
 #: compound shapes inside compound shapes (CoppeliaSim's own scenes: 2 or 3)
 MAX_COMPOUND_DEPTH = 64
 
@@ -55,6 +60,28 @@ class MeshBudget:
             raise LimitError(
                 f"the scene's meshes hold more than {self.limit:,} numbers in all (vertices "
                 f"and indices, once per mesh that uses them); course scenes hold under 250,000"
+            )
+
+
+class TextureBudget:
+    """Counts the pixels of one scene's textures against :data:`MAX_TEXTURE_SIDE` and
+    :data:`MAX_TEXTURE_PIXELS`."""
+
+    def __init__(self, limit: int = MAX_TEXTURE_PIXELS):
+        self.limit = limit
+        self.used = 0
+
+    def take(self, name: str, width: int, height: int) -> None:
+        if width > MAX_TEXTURE_SIDE or height > MAX_TEXTURE_SIDE:
+            raise LimitError(
+                f"texture {name!r} is {width}x{height} pixels, more than {MAX_TEXTURE_SIDE} "
+                f"on a side (course scenes use 256x256)"
+            )
+        self.used += width * height
+        if self.used > self.limit:
+            raise LimitError(
+                f"the scene's textures hold more than {self.limit:,} pixels in all "
+                f"(course scenes hold under 140,000)"
             )
 
 

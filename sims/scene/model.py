@@ -47,6 +47,35 @@ class Pose:
 
 
 @dataclass(frozen=True)
+class TextureImage:
+    """A texture object: ``rgba`` holds width x height x 4 bytes, the first row at v = 0."""
+
+    id: int
+    name: str
+    width: int
+    height: int
+    rgba: bytes = field(repr=False)
+
+
+@dataclass(frozen=True)
+class TextureMapping:
+    """How one mesh wears a texture (see :mod:`sims.scene.textures`). ``coordinates``: fixed texture
+    coordinates (u, v per triangle corner), empty when the mapping computes them. ``image``:
+    the texture object, filled in once the whole file is read (None if the file lacks it)."""
+
+    texture: int
+    mode: str = "plane"
+    scaling: tuple[float, float] = (1.0, 1.0)
+    pose: Pose = field(default_factory=Pose)
+    repeat_u: bool = False
+    repeat_v: bool = False
+    interpolate: bool = False
+    apply: str = "modulate"
+    coordinates: tuple[float, ...] = field(default=(), repr=False)
+    image: TextureImage | None = None
+
+
+@dataclass(frozen=True)
 class Mesh:
     """One mesh of a shape, in the shape's frame: flat vertex list (x, y, z, ...) and triangle
     indices (i, j, k, ...). ``primitive`` names the pure type when the mesh is a primitive
@@ -65,6 +94,8 @@ class Mesh:
     visible: bool = True
     wireframe: bool = False
     convex: bool | None = None  # CoppeliaSim's own flag (None: the file does not say)
+    texture: TextureMapping | None = None  # its texture and how it is mapped, if any
+    opacity: float = 1.0  # below 1: CoppeliaSim draws it translucent (sensors see through it)
 
 
 @dataclass(frozen=True)
@@ -280,6 +311,7 @@ class Scene:
     script_parameters: tuple[CustomData, ...] = ()  # sim.getScriptSimulationParameter's
     physics: Physics = field(default_factory=Physics)
     ik_groups: tuple[IkGroup, ...] = ()
+    textures: tuple[TextureImage, ...] = ()  # the texture objects (sims/scene/textures.py)
 
     def by_handle(self) -> Mapping[int, SceneObject]:
         """Objects by handle (read-only; built once per scene)."""

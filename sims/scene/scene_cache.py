@@ -23,6 +23,7 @@ simply decoded each time). At most ``MAX_ENTRIES`` entries are kept (the oldest 
 
 from __future__ import annotations
 
+import base64
 import contextlib
 import dataclasses
 import hashlib
@@ -34,7 +35,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from sims.scene import jsonfile
-from sims.scene.model import Scene
+from sims.scene.model import Scene, TextureMapping
 
 FORMAT = "sitegen-scene-cache/1"
 ENV = "SITEGEN_SCENE_CACHE"
@@ -90,7 +91,12 @@ def _plain(value: object) -> object:
     """Records as dicts and sequences as lists (what dataclasses.asdict gives, without its deep
     copy of every number: a scene holds tens of thousands)."""
     if dataclasses.is_dataclass(value):
-        return {name: _plain(getattr(value, name)) for name in _names(type(value))}
+        names = _names(type(value))
+        if isinstance(value, TextureMapping):  # its image is held once, in Scene.textures
+            names = tuple(n for n in names if n != "image")
+        return {name: _plain(getattr(value, name)) for name in names}
+    if isinstance(value, bytes):
+        return base64.b64encode(value).decode("ascii")
     if isinstance(value, (tuple, list)):
         if set(map(type, value)) <= NUMBERS:
             return list(value)
@@ -104,7 +110,7 @@ def loads(text: str, source: str) -> Scene:
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise ValueError("not a scene cache entry")
     scene = jsonfile._build(Scene, data.get("scene"), source)
-    return dataclasses.replace(scene, source=source)
+    return dataclasses.replace(jsonfile.with_textures(scene, source), source=source)
 
 
 def load(path: str | Path, decode: Callable[[str], Scene]) -> Scene:

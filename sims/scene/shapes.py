@@ -27,6 +27,7 @@ import numpy as np
 from sims.quiet import pybullet as p
 from sims.scene import convex_parts
 from sims.scene.model import Mesh, Pose
+from sims.scene.textures import quaternion_matrix, texture_coordinates
 
 RAY = 1  # the group pybullet's ray tests belong to
 RESPONDABLE = 2
@@ -131,14 +132,23 @@ def _concave(mesh: Mesh, vertices: list, indices: list) -> bool:
     return not convex_parts.is_convex(points, triangles)
 
 
-def mesh_file(points: list, triangles: list) -> str:
+def mesh_file(points: list, triangles: list, uvs: np.ndarray | None = None) -> str:
     """The mesh as a Wavefront OBJ file in a cache folder, named by its content (pybullet's EGL
-    renderer draws meshes from files only, not from vertex arrays). Written once, atomically."""
+    renderer draws meshes from files only, not from vertex arrays). Written once, atomically.
+    ``uvs``: texture coordinates per triangle corner (CoppeliaSim's own layout), as ``vt``."""
     text = "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in points)
-    text += "".join(
-        f"f {triangles[i] + 1} {triangles[i + 1] + 1} {triangles[i + 2] + 1}\n"
-        for i in range(0, len(triangles) - 2, 3)
-    )
+    if uvs is None:
+        text += "".join(
+            f"f {triangles[i] + 1} {triangles[i + 1] + 1} {triangles[i + 2] + 1}\n"
+            for i in range(0, len(triangles) - 2, 3)
+        )
+    else:
+        text += "".join(f"vt {u!r} {v!r}\n" for u, v in uvs.tolist())
+        text += "".join(
+            f"f {triangles[i] + 1}/{i + 1} {triangles[i + 1] + 1}/{i + 2} "
+            f"{triangles[i + 2] + 1}/{i + 3}\n"
+            for i in range(0, len(triangles) - 2, 3)
+        )
     digest = hashlib.sha256(text.encode()).hexdigest()[:32]
     folder = Path(tempfile.gettempdir()) / "sitegen-scene-meshes"
     target = folder / f"{digest}.obj"
@@ -150,10 +160,57 @@ def mesh_file(points: list, triangles: list) -> str:
     return str(target)
 
 
+def textured_mesh(part: Part) -> str | None:
+    """The OBJ file of a textured mesh, with CoppeliaSim's texture coordinates (a textured
+    primitive is drawn from its triangles, so that the texture lies as CoppeliaSim lays it);
+    None when the mesh has no texture, no triangles, or coordinates CoppeliaSim would drop."""
+    m = part.mesh
+    mapping = m.texture
+    if mapping is None or mapping.image is None or len(m.indices) < 3 or len(m.vertices) < 9:
+        return None
+    points = np.asarray(m.vertices, dtype=np.float64).reshape(-1, 3)
+    indices = np.asarray(m.indices, dtype=np.int64)
+    # the texture's pose is in the shape frame, as the mesh's own frame (Ppf) is
+    shaped = points @ quaternion_matrix(m.local.quaternion).T + np.asarray(m.local.position)
+    uvs = texture_coordinates(mapping, shaped, indices)
+    if uvs is None:
+        return None
+    # pybullet's renderers repeat textures (and TinyRenderer blends the last column with the
+    # first near u = 1, measured); a texture CoppeliaSim clamps is drawn from an image with a
+    # copied edge texel on each side (texture_file(pad_u, pad_v)), its coordinates moved in.
+    image = mapping.image
+    sides = ((0, mapping.repeat_u, image.width), (1, mapping.repeat_v, image.height))
+    for axis, repeat, size in sides:
+        if not repeat:
+            uvs[:, axis] = (np.clip(uvs[:, axis], 0.0, 1.0) * size + 1.0) / (size + 2.0)
+    return mesh_file(_mesh_points(m), list(m.indices), uvs)
+
+
+def look_color(mesh: Mesh) -> tuple[float, float, float, float]:
+    """The colour a mesh is drawn in: its own, or white under a decal texture (CoppeliaSim's
+    decal mode shows the texture's colours, not the mesh's; pybullet modulates)."""
+    texture = mesh.texture
+    if texture is not None and texture.image is not None and texture.apply == "decal":
+        return (1.0, 1.0, 1.0, mesh.opacity)
+    return (*mesh.color, mesh.opacity)
+
+
 def create_visual(client: int, part: Part) -> int:
     """A visual shape for one visible part in its colour (-1 if invisible or empty)."""
     if not (part.visible and part.mesh.visible) or part.mesh.wireframe:
         return -1
+    textured = textured_mesh(part)
+    if textured is not None:
+        return p.createVisualShape(
+            shapeType=p.GEOM_MESH,
+            fileName=textured,
+            meshScale=(1.0, 1.0, 1.0),
+            visualFramePosition=part.pose.position,
+            visualFrameOrientation=part.pose.quaternion,
+            rgbaColor=look_color(part.mesh),
+            specularColor=(0.1, 0.1, 0.1),
+            physicsClientId=client,
+        )
     g = geometry(part)
     if g is None:
         return -1
@@ -168,7 +225,7 @@ def create_visual(client: int, part: Part) -> int:
         **vis,
         visualFramePosition=part.pose.position,
         visualFrameOrientation=part.pose.quaternion,
-        rgbaColor=(*part.mesh.color, 1.0),
+        rgbaColor=look_color(part.mesh),
         specularColor=(0.1, 0.1, 0.1),
         physicsClientId=client,
     )

@@ -149,6 +149,7 @@ def text_report(scene: Scene) -> str:
                 f"  {s.kind} ({where}){' ' + ', '.join(flags) if flags else ''}: {n} lines"
             )
     lines += mechanism_lines(scene)
+    lines += texture_lines(scene)
     lines.append("")
     if scene.notes:
         lines.append("Not understood or not used:")
@@ -284,6 +285,51 @@ def _json_object(scene: Scene, o: SceneObject, paths: dict[int, str]) -> dict:
     return item
 
 
+def textures(scene: Scene) -> list[dict]:
+    """Each texture object (no pixels) and the meshes that wear it, with the mapping understood."""
+    out = []
+    for t in scene.textures:
+        worn = []
+        for o in scene.objects:
+            for m in o.shape.meshes if o.shape is not None else ():
+                x = m.texture
+                if x is None or x.texture != t.id:
+                    continue
+                worn.append(
+                    {
+                        "shape": o.name,
+                        "mode": "fixed coordinates" if x.coordinates else x.mode,
+                        "scaling": [_r(v, 4) for v in x.scaling],
+                        "apply": x.apply,
+                        "repeat_u": x.repeat_u,
+                        "repeat_v": x.repeat_v,
+                        "interpolate": x.interpolate,
+                    }
+                )
+        out.append({"id": t.id, "name": t.name, "size": [t.width, t.height], "worn_by": worn})
+    return out
+
+
+def texture_lines(scene: Scene) -> list[str]:
+    found = textures(scene)
+    if not found:
+        return []
+    lines = ["", "Textures:"]
+    for t in found:
+        worn = []
+        for w in t["worn_by"]:
+            how = w["mode"]
+            if how != "fixed coordinates":
+                how += f" {w['scaling'][0]} x {w['scaling'][1]} m"
+            flags = [f for f, key in (("repeat u", "repeat_u"), ("repeat v", "repeat_v"),
+                                      ("interpolated", "interpolate")) if w[key]]  # fmt: skip
+            worn.append(f"{_clean(w['shape'])} ({', '.join([how, w['apply'], *flags])})")
+        on = "; ".join(worn) if worn else "not used by any shape"
+        width, height = t["size"]
+        lines.append(f"  {_clean(t['name'])} [{t['id']}] {width}x{height}: {on}")
+    return lines
+
+
 def _json_head(scene: Scene) -> dict:
     return {
         "source": scene.source,
@@ -302,6 +348,7 @@ def _json_head(scene: Scene) -> dict:
             for s in scene.scripts
         ],
         "notes": [{"where": n.where, "message": n.message} for n in scene.notes],
+        "textures": textures(scene),
         **mechanisms(scene),
     }
 
@@ -371,6 +418,13 @@ def main(argv: list[str] | None = None, prog: str = "sitegen scene") -> int:
         from sims.scene.xml_write import write_xml
 
         text = write_xml(scene)
+        if scene.textures and args.verbosity >= 0:  # nothing the user gave is dropped unsaid
+            names = ", ".join(_clean(t.name) for t in scene.textures)
+            print(
+                f"{_clean(args.path)}: note: textures not written ({names}): CoppeliaSim's "
+                "simple XML format has none",
+                file=sys.stderr,
+            )
         if args.output:
             try:
                 with open(args.output, "w", encoding="utf-8", newline="\n") as fh:

@@ -29,8 +29,24 @@ from dataclasses import replace
 
 from sims.scene import custom_data
 from sims.scene.errors import SceneError
-from sims.scene.limits import MAX_BODY, MAX_RATIO, LimitError, check_depth, check_object_count
-from sims.scene.model import IkGroup, Physics, Scene, SceneNote, SceneObject, Script
+from sims.scene.limits import (
+    MAX_BODY,
+    MAX_RATIO,
+    LimitError,
+    TextureBudget,
+    check_depth,
+    check_object_count,
+)
+from sims.scene.model import (
+    IkGroup,
+    Physics,
+    Scene,
+    SceneNote,
+    SceneObject,
+    Script,
+    TextureImage,
+)
+from sims.scene.textures import attach_images, read_texture_object
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, chunk_list, top_level
 from sims.scene.ttt_huffman import HuffmanError, decompress
 from sims.scene.ttt_mech import read_ik_group, read_path, read_physics
@@ -81,7 +97,6 @@ OBJECT_KINDS = {
 SETTINGS = {
     "MTC": "thumbnail",
     "BBC": "model thumbnail info",
-    "TEX": "textures",
     "GHO": "ghosts",
     "ENV": "environment (background, fog)",
     "SET": "main settings",
@@ -198,6 +213,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
     params: list = []
     unknown_chunks: dict[tuple[str, str], list[str]] = {}
     unknown_top: dict[str, int] = {}
+    textures: dict[int, TextureImage] = {}
+    texture_budget = TextureBudget()
     while True:
         try:
             c = next(chunks, None)
@@ -232,6 +249,9 @@ def read_ttt(data: bytes, source: str) -> Scene:
             elif c.name == "DYN":
                 gravity = _gravity(buf, c) or gravity
                 physics = read_physics(buf, c)
+            elif c.name == "TEX":
+                image = read_texture_object(buf, c, texture_budget)
+                textures[image.id] = image
             elif c.name == "IKO":
                 ik_groups.append(read_ik_group(buf, c))
             elif c.name == "SIM":
@@ -244,6 +264,7 @@ def read_ttt(data: bytes, source: str) -> Scene:
             raise SceneError(source, "file", str(exc)) from None
         except (ChunkError, struct.error, ValueError) as exc:
             where = f"{OBJECT_KINDS[c.name]} #{len(objects)}" if c.name in OBJECT_KINDS else "file"
+            where = f"texture #{len(textures)}" if c.name == "TEX" else where
             raise SceneError(source, where, f"corrupt {c.name!r} chunk: {exc}") from None
     for name, count in unknown_top.items():
         times = f" ({count} times)" if count > 1 else ""
@@ -256,6 +277,8 @@ def read_ttt(data: bytes, source: str) -> Scene:
     if skipped:
         listed = ", ".join(sorted(skipped))
         notes.append(SceneNote("file", f"not used by the simulation, skipped: {listed}"))
+    for name in attach_images(objects, textures):
+        notes.append(SceneNote(name, "its texture is not in the file: drawn without it"))
     try:
         objects = _check_tree(objects, scripts, notes)
     except LimitError as exc:
@@ -273,6 +296,7 @@ def read_ttt(data: bytes, source: str) -> Scene:
         script_parameters=tuple(params),
         physics=physics,
         ik_groups=tuple(ik_groups),
+        textures=tuple(textures.values()),
     )
 
 

@@ -33,6 +33,7 @@ import numpy as np
 from sims.scene.limits import MAX_COMPOUND_DEPTH, LimitError, MeshBudget
 from sims.scene.model import Dynamics, Mesh, Pose, ShapeData
 from sims.scene.rotations import principal_axes
+from sims.scene.textures import read_texture_property
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, bit, chunk_list
 
 PRIMITIVES = {1: "plane", 2: "disc", 3: "cuboid", 4: "sphere", 5: "cylinder", 6: "cone"}
@@ -127,6 +128,17 @@ def read_color(buf: bytes, chunk: Chunk) -> tuple[float, float, float] | None:
             top = max(rgb)
             return _clamp3(tuple(x / top for x in rgb) if top > 1.0 else tuple(rgb))
     return None
+
+
+def read_opacity(buf: bytes, chunk: Chunk) -> float:
+    """A colour object's opacity: ``Trf`` (float32) when ``Var`` bit 2 is clear (translucent)."""
+    opacity, translucent = 1.0, False
+    for c in chunk_list(buf, chunk.start, chunk.end)[0]:
+        if c.name == "Trf":
+            opacity = min(1.0, max(0.0, Fields(buf, c).f32()[0]))
+        elif c.name == "Var":
+            translucent = not bit(Fields(buf, c).u8(), 2)
+    return opacity if translucent else 1.0
 
 
 def read_colors(buf: bytes, chunk: Chunk) -> tuple[float, ...] | None:
@@ -251,10 +263,13 @@ class ShapeReader:
         color = (0.8, 0.8, 0.8)
         wireframe = False
         convex = part.convex
+        texture = None
+        opacity = 1.0
         for c in parts:
             f = Fields(self.buf, c)
             if c.name == "Cl0":
                 color = read_color(self.buf, c) or color
+                opacity = read_opacity(self.buf, c)
             elif c.name == "Vev":
                 pooled["v"] = f.i32()
                 vertices = self._pooled(self.pool.vertices, pooled["v"], "vertex")
@@ -283,6 +298,8 @@ class ShapeReader:
                 wireframe = bit(f.u8(), 2)
             elif c.name == "Va2":  # 4.5+: bit 0 convex
                 convex = bit(f.u8(), 0)
+            elif c.name == "Toj":
+                texture = read_texture_property(self.buf, c)
             elif c.name not in _MESH_IGNORED:
                 self.unknown.add(f"mesh {c.name}")
         if vertices is None or indices is None:
@@ -304,6 +321,8 @@ class ShapeReader:
                 color=color,
                 wireframe=wireframe,
                 convex=convex,
+                texture=texture,
+                opacity=opacity,
             )
         )
 
@@ -347,7 +366,7 @@ class ShapeReader:
 
 _MESH_IGNORED = {
     "Cl2", "Ecl", "Nov", "Vvd", "Nor", "No2", "Ved", "Pp2", "_p2", "Gsa", "_sa", "Gs2", "_s2",
-    "Hfd", "_fd", "Toj",
+    "Hfd", "_fd",
 }  # fmt: skip
 
 
