@@ -64,7 +64,11 @@ def _cli_peak(*args: str, timeout: float = 120) -> tuple[subprocess.CompletedPro
             code = main({list(args)!r})
         finally:
             sys.stdout.flush()
-            peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+            # VmHWM: this process image's own peak (ru_maxrss carries the parent's peak
+            # across fork and exec, so a large pytest process would be counted)
+            status = open("/proc/self/status").read().split("VmHWM:")[1]
+            peak = int(status.split()[0]) if status else resource.getrusage(
+                resource.RUSAGE_SELF).ru_maxrss
             print(f"PEAK {{peak}}", file=sys.stderr)
         raise SystemExit(code)
         """
