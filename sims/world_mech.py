@@ -85,6 +85,8 @@ class Mechanisms:
         self.paths = PathObjects(self, self.source)
         self._belts = {}
         self._held = {}
+        self._broken = set()  # force sensors broken this run (sim.breakForceSensor)
+        self._enable_force_sensors()
         # CoppeliaSim's main script handles paths and IK groups at each pass's actuation; the
         # World does it before a pass's first physics step (after the scripts' actuation)
         self._pass_work = bool(self.kinematics.groups or self.paths.paths)

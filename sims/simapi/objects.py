@@ -301,7 +301,24 @@ def set_object_parent(c: Caller, h: Any, parent: Any, keep_in_place: Any = True)
         c.world.set_parent(h, None if up == -1 else up, flag(keep_in_place, True))
     except ValueError as exc:
         raise SimError(str(exc)) from None
+    _attach_dynamic(c, h, up)
     return c.done
+
+
+def _attach_dynamic(c: Caller, h: int, up: int) -> None:
+    """CoppeliaSim links two dynamic bodies only through a joint or a force sensor: a free
+    dynamic shape hung on an unbroken force sensor (a gripper's attach point) is held there
+    rigidly (``World.hold``) and comes loose when re-parented elsewhere or when the sensor
+    breaks; hung on anything else it stays a free body, as it does in CoppeliaSim."""
+    world = c.world
+    if not world.can_hold(h):
+        return
+    world.release(h)
+    if up != -1 and world.kind(up) == "force_sensor" and not world.force_sensor_broken(up):
+        try:
+            world.hold(h, up)
+        except ValueError as exc:
+            raise SimError(str(exc)) from None
 
 
 def copy_paste_objects(c: Caller, handles: Any, opts: Any = 0) -> list[int]:

@@ -1,0 +1,123 @@
+"""A gripper's own Lua keeps its part while the arm moves (issue 28, grippers): the pattern of
+the course's grippers (a part re-parented onto the gripper's attach point, a force sensor; the
+part let go by re-parenting it away or by breaking the sensor), run by a threaded script on the
+UR5 + RG2 of course2/ur5WithRg2Grasping.ttt, checked by positions over simulated time.
+
+CoppeliaSim links two dynamic bodies only through a joint or a force sensor: a dynamic part
+re-parented onto the attach point is held rigidly; on anything else it stays free."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from shared_data import shared
+
+from sims.lua.host import ScriptHost
+from sims.quiet import pybullet as p
+from sims.scene.load import load_scene
+from sims.scene.model import Script
+from sims.world import World
+
+# our own threaded script: hang a block 0.3 m out along the attach point's axis, swing the arm
+# (Ruckig profile, blocking), let go by re-parenting; then a second block, let go by breaking
+# the sensor, and hung again on the broken sensor (it holds nothing now)
+ARM = """
+function sysCall_threadmain()
+    local joints = {}
+    for i = 1, 6 do joints[i] = sim.getObjectHandle('UR5_joint' .. i) end
+    local attach = sim.getObjectHandle('RG2_attachPoint')
+    local zeros = {0, 0, 0, 0, 0, 0}
+    local v, a, j = {}, {}, {}
+    for i = 1, 6 do v[i], a[i], j[i] = 2, 3, 6 end
+    local function swing(config)
+        sim.rmlMoveToJointPositions(joints, -1, zeros, zeros, v, a, j, config, zeros)
+    end
+    local function hang(name)
+        local part = sim.getObjectHandle(name)
+        sim.setObjectPosition(part, attach, {0, 0, 0.3})
+        sim.setObjectOrientation(part, attach, {0, 0, 0})
+        sim.setObjectParent(part, attach, true)
+        return part
+    end
+    local first = hang('Cuboid')
+    sim.wait(0.5)
+    local state, force = sim.readForceSensor(attach)
+    sim.setFloatSignal('heldForce', math.sqrt(force[1]^2 + force[2]^2 + force[3]^2))
+    sim.setIntegerSignal('phase', 1)
+    swing({-1.5, 0.4, 0.6, 0, 1.2, 0})
+    sim.setIntegerSignal('phase', 2)
+    sim.setObjectParent(first, -1, true)
+    sim.wait(1.5)
+    local second = hang('Cuboid0')
+    sim.wait(0.5)
+    sim.setIntegerSignal('phase', 3)
+    swing({0, 0, 0, 0, 0, 0})
+    sim.setIntegerSignal('phase', 4)
+    sim.breakForceSensor(attach)
+    local broken = sim.readForceSensor(attach)
+    sim.setIntegerSignal('brokenState', broken)
+    sim.wait(1.5)
+    sim.setObjectParent(second, attach, true)
+    sim.setIntegerSignal('phase', 5)
+end
+"""
+
+
+def _relative(world: World, a: int, b: int):
+    pa, qa = world.object_pose(a)
+    pb, qb = world.object_pose(b)
+    return p.multiplyTransforms(*p.invertTransform(pa, qa), pb, qb)
+
+
+def test_part_hung_on_the_attach_point_rides_the_arm_and_falls_when_let_go():
+    scene = load_scene(shared("data", "scenes", "course2", "ur5WithRg2Grasping.ttt"))
+    base = scene.objects[[o.name for o in scene.objects].index("UR5")].handle
+    world = World(dataclasses.replace(scene, scripts=(Script("child", ARM, base, True),)))
+    host = ScriptHost(world)
+    attach, first, second = (world.find(n) for n in ("RG2_attachPoint", "Cuboid", "Cuboid0"))
+    trace: list[tuple[float, int, tuple, tuple, tuple]] = []  # t, phase, rel1, pos1, pos2
+    try:
+        host.start()
+        for _ in range(200):  # up to 20 simulated seconds
+            world.advance(0.1)
+            phase = host.signals["int"].get("phase", 0)
+            rel = _relative(world, attach, first if phase < 3 else second)
+            trace.append(
+                (
+                    world.time,
+                    phase,
+                    rel[0],
+                    world.object_pose(first)[0],
+                    world.object_pose(second)[0],
+                )
+            )
+            if phase == 5:
+                break
+        errors = list(host.errors)
+        held_force = host.signals["float"].get("heldForce")
+        broken_state = host.signals["int"].get("brokenState")
+        still_held = world.held_by(second)
+    finally:
+        host.close()
+        world.close()
+    assert errors == []
+    assert trace[-1][1] == 5, "the script reached its end"
+    # the attach point's sensor carries the block's weight (0.3 m out: force and the torque)
+    assert held_force is not None and held_force > 0.5
+    assert broken_state is not None and broken_state & 2  # bit 1: broken
+    assert still_held is None  # a broken sensor holds nothing
+    # while held (phases 1 and 3), the block keeps its place on the attach point within 2 mm
+    # while the arm swings it through the air
+    for wanted, index in ((1, 3), (3, 4)):
+        rows = [r for r in trace if r[1] == wanted]
+        assert len(rows) >= 10
+        for r in rows:
+            assert math.dist(r[2], (0.0, 0.0, 0.3)) < 0.002, r
+        travel = math.dist(rows[0][index], rows[-1][index])
+        assert travel > 0.3, travel
+    # let go (re-parented to the world, then the sensor broken): each block falls to the floor
+    for wanted, index in ((2, 3), (4, 4)):
+        rows = [r for r in trace if r[1] == wanted]
+        assert rows[0][index][2] - rows[-1][index][2] > 0.2
+        assert rows[-1][index][2] < 0.1
