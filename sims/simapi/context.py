@@ -54,6 +54,7 @@ class Store:
     motions: dict[int, Any] = field(default_factory=dict)  # rmlPos/rmlVel objects
     next_handle: dict[str, int] = field(default_factory=dict)
     selection: list[int] = field(default_factory=list)
+    ik_envs: dict[int, Any] = field(default_factory=dict)  # simIK environments (ik.py)
 
     def new_handle(self, kind: str, first: int = 1) -> int:
         h = self.next_handle.get(kind, first)

@@ -72,11 +72,7 @@ class Env:
 
 
 def _envs(c: Caller) -> dict[int, Env]:
-    s = store(c.world)
-    envs = getattr(s, "ik_envs", None)
-    if envs is None:
-        envs = s.ik_envs = {}  # type: ignore[attr-defined]
-    return envs
+    return store(c.world).ik_envs
 
 
 def _env(c: Caller, env: Any) -> Env:
