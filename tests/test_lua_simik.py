@@ -17,8 +17,10 @@ from sims.scene.load import load_scene
 from sims.scene.model import Script
 from sims.world import World
 
-# the arm bent over the belt (the scene's own pick configuration), its joints put in IK mode
-# (kinematic: put where IK says), the target moved 5 cm out and 10 cm down from the tip
+# the arm bent over the belt (the scene's own pick configuration), its joints put in hybrid IK
+# mode as the scene's own script does (IK sets the targets their motors drive to), the target
+# moved 5 cm out and 10 cm up from the tip (clear of the belt below: 10 cm down, the gripper
+# presses on the belt and the shoulder stops 1.5 deg short, 2 cm off, as it would in CoppeliaSim)
 SETUP = """
     base = sim.getObjectHandle('UR5')
     tip = sim.getObjectHandle('UR5_ikTip')
@@ -27,11 +29,12 @@ SETUP = """
     local bent = {-70.1, 18.85, 93.18, 68.02, 109.9, 90}
     for i = 1, 6 do
         joints[i] = sim.getObjectHandle('UR5_joint' .. i)
-        sim.setJointMode(joints[i], sim.jointmode_ik, 0)
+        sim.setJointMode(joints[i], sim.jointmode_ik, 1)
         sim.setJointPosition(joints[i], bent[i] * math.pi / 180)
+        sim.setJointTargetPosition(joints[i], bent[i] * math.pi / 180)
     end
     local at = sim.getObjectPosition(tip, -1)
-    sim.setObjectPosition(target, -1, {at[1] + 0.05, at[2], at[3] - 0.1})
+    sim.setObjectPosition(target, -1, {at[1] + 0.05, at[2], at[3] + 0.1})
     sim.setObjectQuaternion(target, -1, sim.getObjectQuaternion(tip, -1))
     local function scene()
         local q = {}
