@@ -240,8 +240,7 @@ def render_range(
 
             ov = overview_for(cache.path, world.model.camera.yaw, FOV_DEG, width / height)
             fixed = matrices(ov, FOV_DEG, width / height, NEAR, FAR)
-        if world._renderer is not None:
-            world._renderer.new_sequence()
+        world.new_render_sequence()
         deadline = time.monotonic() + job["time_limit"]
         with open(range_file(out, job["start"]), "wb") as f:
             for n, state in enumerate(states, 1):

@@ -89,10 +89,10 @@ def object_type(world: Any, handle: int) -> int:
 
 def joint(world: Any, handle: int) -> Any:
     n = name(world, handle)
-    j = world._joints.get(n)
-    if j is None:
-        raise CommandError(f"object {n!r} is not a joint")
-    return j
+    try:
+        return world.joint(n)
+    except KeyError:
+        raise CommandError(f"object {n!r} is not a joint") from None
 
 
 def objects(world: Any, object_type_: int) -> list[int]:
@@ -209,5 +209,5 @@ def _body_link(world: Any, n: str) -> tuple[int, int]:
     if n in _joints(world):
         j = _joints(world)[n]
         return j.body, j.index
-    s = world._sensors[n]
+    s = world.proximity_sensor(n)
     return s.body, s.link

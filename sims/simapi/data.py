@@ -253,7 +253,7 @@ def get_object_int_param(c: Caller, h: Any, pid: Any) -> Any:
     if value is None:
         value = 0
         if key == 3003:  # shapeintparam_static
-            ref = c.world._objects.get(c.world.name_of(hh))
+            ref = c.world.object_ref(hh)
             value = int(ref is None or ref.body < 0 or _body_dynamics(c, hh) == 0.0)
     return int(value) if c.new_api else (1, int(value))
 
@@ -261,7 +261,7 @@ def get_object_int_param(c: Caller, h: Any, pid: Any) -> Any:
 def _body_dynamics(c: Caller, h: int, mass: float | None = None) -> float:
     from sims.quiet import pybullet as p
 
-    ref = c.world._objects.get(c.world.name_of(h))
+    ref = c.world.object_ref(h)
     if ref is None or ref.body < 0:
         return 0.0
     cid = c.world.client_id

@@ -55,8 +55,7 @@ def set_joint_target_velocity(c: Caller, h: Any, value: Any, *motion: Any) -> in
 def _target(c: Caller, h: Any, kind: str) -> float:
     hh = _joint(c, h)
     _run(cmd.joint, c.world, hh)
-    command = getattr(c.world, "motor_command", None)  # World.motor_command (issue 34)
-    got = command(hh) if command is not None else c.world._commands.get(c.world.name_of(hh))
+    got = c.world.motor_command(hh)
     if got is not None and got[0] == kind:
         return float(got[1])
     return get_joint_position(c, hh) if kind == "position" else 0.0
@@ -142,7 +141,7 @@ def is_dynamically_enabled(c: Caller, h: Any) -> bool:
     e = c.entry(hh)
     if e.kind == "joint":
         return get_joint_mode(c, hh)[0] == 5
-    ref = c.world._carried(hh) if hasattr(c.world, "_carried") else None
+    ref = c.world.object_ref(hh)
     return ref is not None and ref.body >= 0
 
 
