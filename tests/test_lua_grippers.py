@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import pytest
 from shared_data import shared
 
 from sims.lua.host import ScriptHost
@@ -121,3 +122,41 @@ def test_part_hung_on_the_attach_point_rides_the_arm_and_falls_when_let_go():
         rows = [r for r in trace if r[1] == wanted]
         assert rows[0][index][2] - rows[-1][index][2] > 0.2
         assert rows[-1][index][2] < 0.1
+
+
+# twice its weight upward on a block for half a second: it rises with g net, 1.23 m
+PUSH = """
+function sysCall_init()
+    block = sim.getObjectHandle('Cuboid0')
+    mass = sim.getShapeMass(block)
+    sim.setFloatSignal('mass', mass)
+    sim.setFloatSignal('z0', sim.getObjectPosition(block, -1)[3])
+end
+
+function sysCall_actuation()
+    if sim.getSimulationTime() < 0.5 - 1e-6 then
+        sim.addForceAndTorque(block, {0, 0, 2 * mass * 9.81}, {0, 0, 0})
+    elseif not done then
+        done = true
+        sim.setFloatSignal('z', sim.getObjectPosition(block, -1)[3])
+    end
+end
+"""
+
+
+def test_add_force_and_torque_lifts_a_block_for_the_passes_it_is_given():
+    scene = load_scene(shared("data", "scenes", "course2", "ur5WithRg2Grasping.ttt"))
+    world = World(dataclasses.replace(scene, scripts=(Script("child", PUSH, 1),)))
+    host = ScriptHost(world)
+    try:
+        host.start()
+        world.advance(0.6)
+        errors, floats = list(host.errors), dict(host.signals["float"])
+    finally:
+        host.close()
+        world.close()
+    assert errors == []
+    assert floats["mass"] > 0
+    # each pass's force acts over that pass only (CoppeliaSim clears added forces after the
+    # dynamics): 0.5 s at g net upward, z0 + g t^2 / 2
+    assert floats["z"] - floats["z0"] == pytest.approx(9.81 * 0.5**2 / 2, rel=0.05)
