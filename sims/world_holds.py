@@ -56,6 +56,8 @@ class Holds:
     _belts: dict[str, Belt]
     _held: dict[str, Hold]
     _broken: set[str]
+    _dummy_links: dict[str, str | None]  # links scripts made or undid (sim.setLinkDummy)
+    _link_constraints: dict[str, int]  # a dynamically linked dummy -> its pybullet constraint
     _forces: dict[str, tuple[tuple, tuple]]
 
     if TYPE_CHECKING:  # supplied by World
@@ -276,6 +278,56 @@ class Holds:
             return None
         info = p.getJointInfo(ref.body, ref.link, physicsClientId=self._cid)
         return (ref.body, ref.link) if info[2] == p.JOINT_FIXED else None
+
+    # -- dummy-dummy links a script makes (sim.setLinkDummy) ------------------------------------
+    def link_dummies(self, dummy: int | str, other: int | str | None, dynamic: bool) -> None:
+        """sim.setLinkDummy: link two dummies (``other`` None: undo the dummy's link). A link
+        of a dynamics type ("overlap constraint": a suction pad's dummy re-parented onto the
+        part, linked to the pad's) holds the two dummies' frames together through the bodies
+        they ride on, as a loop closure does; an IK tip-target link only pairs them for IK
+        (``linked_dummy``). A loop closure saved with the scene stays built when undone."""
+        a = self.object_name(dummy)
+        self._unlink(a)
+        if other is None:
+            return
+        b = self.object_name(other)
+        if a == b:
+            raise ValueError(f"dummy {a!r} cannot be linked to itself")
+        self._unlink(b)
+        self._dummy_links[a], self._dummy_links[b] = b, a
+        if dynamic:
+            self._overlap(a, b)
+
+    def _unlink(self, name: str) -> None:
+        partner = self.linked_dummy(name)
+        for n in (name, None if partner is None else self.object_name(partner)):
+            if n is None:
+                continue
+            self._dummy_links[n] = None
+            cid = self._link_constraints.pop(n, None)
+            if cid is not None:
+                p.removeConstraint(cid, physicsClientId=self._cid)
+
+    def _overlap(self, a: str, b: str) -> None:
+        """A constraint bringing dummy ``a``'s frame onto dummy ``b``'s (riding their links)."""
+        ra, rb = self._objects.get(a), self._objects.get(b)
+        if ra is None or rb is None:
+            raise ValueError(f"{a!r} and {b!r} must be dummies on the scene's bodies or the world")
+        if (ra.body, ra.link) == (rb.body, rb.link) or (ra.body < 0 and rb.body < 0):
+            return  # nothing moves one against the other
+        if ra.body < 0:
+            ra, rb, a, b = rb, ra, b, a
+        c = self._cid
+        ends = []
+        for ref, name in ((ra, a), (rb, b)):
+            com = self._com(ref.body, ref.link)
+            ends.append(p.multiplyTransforms(*p.invertTransform(*com), *self.object_pose(name)))
+        cid = p.createConstraint(
+            ra.body, ra.link, rb.body, rb.link, p.JOINT_FIXED, (0, 0, 0), ends[0][0], ends[1][0],
+            ends[0][1], ends[1][1], physicsClientId=c,
+        )  # fmt: skip
+        p.changeConstraint(cid, maxForce=HOLD_FORCE_N, erp=0.8, physicsClientId=c)
+        self._link_constraints[a] = cid
 
     # -- forces a script adds (sim.addForce, sim.addForceAndTorque) ----------------------------
     def add_force_and_torque(self, handle: int | str, force: tuple, torque: tuple) -> None:

@@ -160,3 +160,72 @@ def test_add_force_and_torque_lifts_a_block_for_the_passes_it_is_given():
     # each pass's force acts over that pass only (CoppeliaSim clears added forces after the
     # dynamics): 0.5 s at g net upward, z0 + g t^2 / 2
     assert floats["z"] - floats["z0"] == pytest.approx(9.81 * 0.5**2 / 2, rel=0.05)
+
+
+# a suction pad's pattern: a dummy on the part linked to the pad's dummy by a dynamics
+# ("overlap constraint") link holds the part; undoing the link lets it go
+SUCTION = """
+function sysCall_threadmain()
+    local joints = {}
+    for i = 1, 6 do joints[i] = sim.getObjectHandle('UR5_joint' .. i) end
+    local attach = sim.getObjectHandle('RG2_attachPoint')
+    local part = sim.getObjectHandle('Cuboid1')
+    local zeros = {0, 0, 0, 0, 0, 0}
+    local v, a, j = {2, 2, 2, 2, 2, 2}, {3, 3, 3, 3, 3, 3}, {6, 6, 6, 6, 6, 6}
+    sim.setObjectPosition(part, attach, {0, 0, 0.3})
+    sim.setObjectOrientation(part, attach, {0, 0, 0})
+    local pad = sim.createDummy(0.01)
+    sim.setObjectPosition(pad, part, {0, 0, 0})
+    sim.setObjectOrientation(pad, part, {0, 0, 0})
+    sim.setObjectParent(pad, attach, true)
+    local grip = sim.createDummy(0.01)
+    sim.setObjectPosition(grip, part, {0, 0, 0})
+    sim.setObjectOrientation(grip, part, {0, 0, 0})
+    sim.setObjectParent(grip, part, true)
+    sim.setIntegerSignal('defaultType', sim.getObjectInt32Parameter(grip,
+                                                                    sim.dummyintparam_link_type))
+    sim.setObjectInt32Parameter(grip, sim.dummyintparam_link_type,
+                                sim.dummy_linktype_dynamics_loop_closure)
+    sim.setLinkDummy(grip, pad)
+    sim.setIntegerSignal('linked', sim.getLinkDummy(pad) == grip and 1 or 0)
+    sim.wait(0.5)
+    sim.setIntegerSignal('phase', 1)
+    sim.rmlMoveToJointPositions(joints, -1, zeros, zeros, v, a, j, {-1.5, 0.4, 0.6, 0, 1.2, 0},
+                                zeros)
+    sim.setIntegerSignal('phase', 2)
+    sim.setLinkDummy(grip, -1)
+    sim.setIntegerSignal('unlinked', sim.getLinkDummy(pad))
+    sim.wait(1.5)
+    sim.setIntegerSignal('phase', 3)
+end
+"""
+
+
+def test_suction_pad_link_holds_the_part_while_the_arm_swings_and_undone_lets_it_fall():
+    scene = load_scene(shared("data", "scenes", "course2", "ur5WithRg2Grasping.ttt"))
+    base = scene.objects[[o.name for o in scene.objects].index("UR5")].handle
+    world = World(dataclasses.replace(scene, scripts=(Script("child", SUCTION, base, True),)))
+    host = ScriptHost(world)
+    attach, part = world.find("RG2_attachPoint"), world.find("Cuboid1")
+    trace = []
+    try:
+        host.start()
+        for _ in range(120):
+            world.advance(0.1)
+            phase = host.signals["int"].get("phase", 0)
+            trace.append((phase, _relative(world, attach, part)[0], world.object_pose(part)[0]))
+            if phase == 3:
+                break
+        errors, ints = list(host.errors), dict(host.signals["int"])
+    finally:
+        host.close()
+        world.close()
+    assert errors == []
+    assert ints["defaultType"] == 5  # a new dummy's link: IK tip-target (CoppeliaSim's default)
+    assert ints["linked"] == 1 and ints["unlinked"] == -1
+    held = [r for r in trace if r[0] == 1]
+    assert len(held) >= 10
+    assert all(math.dist(r[1], (0.0, 0.0, 0.3)) < 0.002 for r in held)
+    assert math.dist(held[0][2], held[-1][2]) > 0.3
+    fell = [r for r in trace if r[0] == 2]
+    assert fell[0][2][2] - fell[-1][2][2] > 0.2 and fell[-1][2][2] < 0.1

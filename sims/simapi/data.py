@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .context import Caller, SimError
+from .objects import dummy_link_type
 from .values import buffer, integer, number, table, text
 
 
@@ -252,6 +253,8 @@ def get_object_int_param(c: Caller, h: Any, pid: Any) -> Any:
     value = c.store.object_params.get((hh, key))
     if value is None:
         value = 0
+        if key == 10000:  # dummyintparam_link_type
+            value = dummy_link_type(c, hh)
         if key == 3003:  # shapeintparam_static
             ref = c.world.object_ref(hh)
             value = int(ref is None or ref.body < 0 or _body_dynamics(c, hh) == 0.0)

@@ -60,6 +60,8 @@ FUNCTIONS: dict[str, Fn] = {
     "sim.scaleObject": objects.scale_object,
     "sim.scaleObjects": objects.scale_objects,
     "sim.resetDynamicObject": objects.reset_dynamic_object,
+    "sim.setLinkDummy": objects.set_link_dummy,
+    "sim.getLinkDummy": objects.get_link_dummy,
     "sim.getConfigurationTree": objects.get_configuration_tree,
     "sim.setConfigurationTree": objects.set_configuration_tree,
     "sim.loadModel": objects.load_model,
