@@ -192,32 +192,38 @@ class Holds:
         """True when ``part`` is a free dynamic shape (what hold() takes)."""
         return self._free_dynamic(self.object_name(part))
 
-    def hold(self, part: int | str, by: int | str) -> None:
-        """Hold a dynamic part rigidly on the link ``by`` rides on, where it is now (what a
-        gripper's script means by re-parenting a grasped part onto its attach point); held
-        again if already held. ValueError for a part that is not a free dynamic shape, or a
-        broken force sensor as ``by``."""
-        name, holder = self.object_name(part), self.object_name(by)
+    def hold(self, part: int | str, by: int | str | None) -> None:
+        """Hold a dynamic part rigidly on the link ``by`` rides on (None: the world), where it
+        is now (what a gripper's script means by re-parenting a grasped part onto its attach
+        point, or by making it static under the gripper); held again if already held.
+        ValueError for a part that is not a free dynamic shape, or a broken force sensor."""
+        name = self.object_name(part)
+        holder = None if by is None else self.object_name(by)
         if not self._free_dynamic(name):
             raise ValueError(f"{name!r} is not a free dynamic shape: it cannot be held")
         if holder in self._broken:
             raise ValueError(f"force sensor {holder!r} is broken: it holds nothing")
         ref = self._objects[name]
         self.release(name)
-        at = self._carrier(holder)
+        at = (-1, -1) if holder is None else self._carrier(holder)
         if at[0] == ref.body:
             raise ValueError(f"{name!r} cannot hold itself")
         c = self._cid
-        parent, child = self._com(*at), self._com(ref.body, -1)
-        rel = p.multiplyTransforms(*p.invertTransform(*parent), *child)
-        cid = p.createConstraint(
-            at[0], at[1], ref.body, -1, p.JOINT_FIXED, (0, 0, 0), rel[0], (0, 0, 0), rel[1],
-            (0, 0, 0, 1), physicsClientId=c,
-        )  # fmt: skip
-        p.changeConstraint(cid, maxForce=HOLD_FORCE_N, erp=0.8, physicsClientId=c)
-        if at[0] >= 0:
+        child = self._com(ref.body, -1)
+        if at[0] < 0:  # on the world (or an object that stands on it): the part's own frame
+            cid = p.createConstraint(
+                ref.body, -1, -1, -1, p.JOINT_FIXED, (0, 0, 0), (0, 0, 0), child[0],
+                (0, 0, 0, 1), child[1], physicsClientId=c,
+            )  # fmt: skip
+        else:
+            rel = p.multiplyTransforms(*p.invertTransform(*self._com(*at)), *child)
+            cid = p.createConstraint(
+                at[0], at[1], ref.body, -1, p.JOINT_FIXED, (0, 0, 0), rel[0], (0, 0, 0),
+                rel[1], (0, 0, 0, 1), physicsClientId=c,
+            )  # fmt: skip
             p.setCollisionFilterPair(at[0], ref.body, at[1], -1, 0, physicsClientId=c)
-        via = holder if self.kind(holder) == "force_sensor" else ""
+        p.changeConstraint(cid, maxForce=HOLD_FORCE_N, erp=0.8, physicsClientId=c)
+        via = holder if holder is not None and self.kind(holder) == "force_sensor" else ""
         self._held[name] = Hold(cid, (ref.body, -1), at, via)
 
     def release(self, part: int | str) -> bool:

@@ -229,3 +229,62 @@ def test_suction_pad_link_holds_the_part_while_the_arm_swings_and_undone_lets_it
     assert math.dist(held[0][2], held[-1][2]) > 0.3
     fell = [r for r in trace if r[0] == 2]
     assert fell[0][2][2] - fell[-1][2][2] > 0.2 and fell[-1][2][2] < 0.1
+
+
+# the other fake grasp: the part made static rides its new parent (here the RG2's body, a
+# shape); static on the world it stays where it is; made dynamic again it falls
+STATIC = """
+function sysCall_threadmain()
+    local joints = {}
+    for i = 1, 6 do joints[i] = sim.getObjectHandle('UR5_joint' .. i) end
+    local attach = sim.getObjectHandle('RG2_attachPoint')
+    local part = sim.getObjectHandle('Cuboid2')
+    local zeros = {0, 0, 0, 0, 0, 0}
+    local v, a, j = {2, 2, 2, 2, 2, 2}, {3, 3, 3, 3, 3, 3}, {6, 6, 6, 6, 6, 6}
+    sim.setObjectPosition(part, attach, {0, 0, 0.3})
+    sim.setObjectOrientation(part, attach, {0, 0, 0})
+    sim.setObjectInt32Parameter(part, sim.shapeintparam_static, 1)
+    sim.setObjectParent(part, sim.getObjectHandle('RG2'), true)
+    sim.wait(0.5)
+    sim.setIntegerSignal('phase', 1)
+    sim.rmlMoveToJointPositions(joints, -1, zeros, zeros, v, a, j, {-1.5, 0.4, 0.6, 0, 1.2, 0},
+                                zeros)
+    sim.setObjectParent(part, -1, true)
+    sim.setIntegerSignal('phase', 2)
+    sim.wait(1.0)
+    sim.setObjectInt32Parameter(part, sim.shapeintparam_static, 0)
+    sim.resetDynamicObject(part)
+    sim.setIntegerSignal('phase', 3)
+    sim.wait(1.5)
+    sim.setIntegerSignal('phase', 4)
+end
+"""
+
+
+def test_part_made_static_rides_its_parent_stays_put_on_the_world_and_falls_when_dynamic():
+    scene = load_scene(shared("data", "scenes", "course2", "ur5WithRg2Grasping.ttt"))
+    base = scene.objects[[o.name for o in scene.objects].index("UR5")].handle
+    world = World(dataclasses.replace(scene, scripts=(Script("child", STATIC, base, True),)))
+    host = ScriptHost(world)
+    attach, part = world.find("RG2_attachPoint"), world.find("Cuboid2")
+    trace = []
+    try:
+        host.start()
+        for _ in range(120):
+            world.advance(0.1)
+            phase = host.signals["int"].get("phase", 0)
+            trace.append((phase, _relative(world, attach, part)[0], world.object_pose(part)[0]))
+            if phase == 4:
+                break
+        errors = list(host.errors)
+    finally:
+        host.close()
+        world.close()
+    assert errors == []
+    held = [r for r in trace if r[0] == 1]
+    assert len(held) >= 10 and all(math.dist(r[1], (0.0, 0.0, 0.3)) < 0.002 for r in held)
+    assert math.dist(held[0][2], held[-1][2]) > 0.3
+    still = [r[2] for r in trace if r[0] == 2]
+    assert still[0][2] > 0.3 and all(math.dist(z, still[0]) < 0.002 for z in still)
+    fell = [r[2] for r in trace if r[0] == 3]
+    assert fell[0][2] - fell[-1][2] > 0.2 and fell[-1][2] < 0.1

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .context import Caller, SimError
-from .objects import dummy_link_type
+from .objects import attach_dynamic, dummy_link_type
 from .values import buffer, integer, number, table, text
 
 
@@ -242,7 +242,11 @@ def get_object_float_param(c: Caller, h: Any, pid: Any) -> Any:
 def set_object_int_param(c: Caller, h: Any, pid: Any, value: Any) -> int:
     hh = c.handle(h)
     c.entry(hh)
-    c.store.object_params[(hh, integer(pid, 2))] = integer(value, 3)
+    key = integer(pid, 2)
+    c.store.object_params[(hh, key)] = integer(value, 3)
+    if key == 3003:  # shapeintparam_static: a part made static rides its parent, or is freed
+        up = c.world.parent_of_object(hh)
+        attach_dynamic(c, hh, -1 if up is None else up)
     return c.done
 
 

@@ -301,24 +301,30 @@ def set_object_parent(c: Caller, h: Any, parent: Any, keep_in_place: Any = True)
         c.world.set_parent(h, None if up == -1 else up, flag(keep_in_place, True))
     except ValueError as exc:
         raise SimError(str(exc)) from None
-    _attach_dynamic(c, h, up)
+    attach_dynamic(c, h, up)
     return c.done
 
 
-def _attach_dynamic(c: Caller, h: int, up: int) -> None:
+def attach_dynamic(c: Caller, h: int, up: int) -> None:
     """CoppeliaSim links two dynamic bodies only through a joint or a force sensor: a free
     dynamic shape hung on an unbroken force sensor (a gripper's attach point) is held there
     rigidly (``World.hold``) and comes loose when re-parented elsewhere or when the sensor
-    breaks; hung on anything else it stays a free body, as it does in CoppeliaSim."""
+    breaks; hung on anything else it stays a free body, as it does in CoppeliaSim. A shape a
+    script made static (``sim.shapeintparam_static``) rides its parent (the world: stays put),
+    the other fake-grasp pattern."""
     world = c.world
     if not world.can_hold(h):
         return
     world.release(h)
-    if up != -1 and world.kind(up) == "force_sensor" and not world.force_sensor_broken(up):
-        try:
-            world.hold(h, up)
-        except ValueError as exc:
-            raise SimError(str(exc)) from None
+    parent = None if up == -1 else up
+    try:
+        if c.store.object_params.get((h, 3003)) == 1:
+            world.hold(h, parent)
+        elif parent is not None and world.kind(parent) == "force_sensor":
+            if not world.force_sensor_broken(parent):
+                world.hold(h, parent)
+    except ValueError as exc:
+        raise SimError(str(exc)) from None
 
 
 #: sim.dummy_linktype_* (CoppeliaSim's numbers) -> the scene model's names
