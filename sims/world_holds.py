@@ -177,6 +177,10 @@ class Holds:
             return p.getBasePositionAndOrientation(body, physicsClientId=c)
         return p.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=c)[:2]
 
+    def _dynamic_shape(self, name: str) -> bool:
+        shape = getattr(self.model.data.get(name), "shape", None)
+        return shape is not None and not shape.dynamics.static
+
     def _free_dynamic(self, name: str) -> bool:
         """A dynamic shape that is its own body's base (not a link of a chain)."""
         ref = self._objects.get(name)
@@ -253,6 +257,14 @@ class Holds:
         if self.kind(name) != "force_sensor":
             raise ValueError(f"{name!r} is not a force sensor")
         self._broken.add(name)
+        at = self.force_sensor_joint(name)
+        if at is not None and any(
+            (r.body, r.link) == at and r.name != name and self._dynamic_shape(r.name)
+            for r in self._objects.values()
+        ):
+            note = f"{name}: broken, but it joins two links of one body here: they stay together"
+            if note not in self.model.notes:
+                self.model.notes.append(note)
         loose = [part for part, hold in self._held.items() if hold.via == name]
         for part in loose:
             self.release(part)

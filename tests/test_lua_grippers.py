@@ -288,3 +288,20 @@ def test_part_made_static_rides_its_parent_stays_put_on_the_world_and_falls_when
     assert still[0][2] > 0.3 and all(math.dist(z, still[0]) < 0.002 for z in still)
     fell = [r[2] for r in trace if r[0] == 3]
     assert fell[0][2] - fell[-1][2] > 0.2 and fell[-1][2] < 0.1
+
+
+def test_breaking_a_sensor_inside_one_body_is_said_not_dropped():
+    """A force sensor between two links of one pybullet body (the UR5's wrist and the RG2)
+    cannot come apart here: breaking it is noted in the scene's notes; an attach point (nothing
+    dynamic beyond it) breaks without a note."""
+    world = World(str(shared("data", "scenes", "course2", "ur5WithRg2Grasping.ttt")))
+    try:
+        assert world.break_force_sensor("RG2_attachPoint") == []
+        assert not [n for n in world.model.notes if "broken" in n]
+        world.break_force_sensor("UR5_connection")
+        assert [n for n in world.model.notes if n.startswith("UR5_connection: broken")]
+        assert world.force_sensor_broken("UR5_connection")
+        world.reset()  # the scene rebuilt: no sensor is broken (CoppeliaSim restores them)
+        assert not world.force_sensor_broken("UR5_connection")
+    finally:
+        world.close()
