@@ -138,10 +138,12 @@ class Kinematics:
         metric: tuple[float, float, float, float] = (1.0, 1.0, 1.0, 0.1),
         lows: list[float] | None = None,
         ranges: list[float] | None = None,
+        accept: Any = None,
     ) -> list[float] | None:
         """sim.getConfigForTipPose: random joint values (within limits, or ``lows`` +
         ``ranges``) whose tip lies within ``threshold`` (the metric-weighted distance) of the
-        target are refined by IK; the first that reaches the target, or None."""
+        target are refined by IK; the first that reaches the target (and that ``accept``, a
+        script's validation callback, takes when given), or None."""
         state = self._state(group)
         names = [self.world.object_name(j) for j in joints]
         rng = random.Random(self.world.seed * 7919 + self.world.steps)
@@ -166,7 +168,9 @@ class Kinematics:
             ):
                 found = self._solve(state.group, elements, q, iterations=40, only=names)
                 if found is not None and found[1]:
-                    return [found[0][n] for n in names]
+                    config = [found[0][n] for n in names]
+                    if accept is None or accept(config):
+                        return config
         return None
 
     # -- solving ------------------------------------------------------------------------------

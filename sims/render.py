@@ -134,7 +134,7 @@ class Renderer:
 
     def close(self) -> None:
         global _egl_owner
-        if self._plugin >= 0 and self.world._client is not None:
+        if self._plugin >= 0 and not self.world.closed:
             with quiet_fd(1), quiet_fd(2):
                 p.unloadPlugin(self._plugin, physicsClientId=self.world.client_id)
         if self._plugin >= 0:

@@ -270,6 +270,20 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds, WorldObjects):
         rad/s or m/s); None when none was sent since the (re)start."""
         return self._commands.get(self.joint(handle).name)
 
+    def object_ref(self, handle: int | str) -> ObjectRef | None:
+        """The pybullet (body, link) an object rides on and its offset there, as it is now
+        (re-parenting changes it); None for a joint, a sensor or an object on nothing."""
+        return self._objects.get(self.object_name(handle))
+
+    def object_refs(self) -> list[ObjectRef]:
+        """Every object's ``object_ref`` (shapes, dummies... riding a body or the world)."""
+        return list(self._objects.values())
+
+    @property
+    def closed(self) -> bool:
+        """True once ``close()`` disconnected the physics client."""
+        return self._client is None
+
     def proximity_sensor(self, handle: int | str) -> ProxSensor:
         """The proximity sensor's record (its frame on a link and its rays)."""
         name = self.object_name(handle)

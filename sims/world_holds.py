@@ -6,9 +6,11 @@ conveyor models' "forwarder") keeps its place while its surface moves: a heavy s
 takes its collisions and is put back each step at the shape's place with that velocity, its
 weight carried, so what lies on it is dragged by friction as in CoppeliaSim's Bullet engine.
 
-A dynamic part re-parented onto a gripper (``hold``: sim.setObjectParent of a grasped part, a
-suction pad's attach point, a re-made force sensor) is held by a fixed constraint at its pose
-at that moment, until ``release``.
+A dynamic part re-parented onto a gripper (``hold``: sim.setObjectParent of a grasped part onto
+a gripper's attach point, a force sensor) is held by a fixed constraint at its pose at that
+moment, until ``release`` or until that force sensor breaks (``break_force_sensor``: CoppeliaSim
+links two dynamic bodies only through a joint or a force sensor, and a broken sensor links
+nothing for the rest of the simulation).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ class Hold:
     constraint: int
     part: tuple[int, int]
     by: tuple[int, int]
+    via: str = ""  # the force sensor the part hangs on ("" if held by another object)
 
 
 class Holds:
@@ -52,6 +55,9 @@ class Holds:
     _joints: dict[str, JointRef]
     _belts: dict[str, Belt]
     _held: dict[str, Hold]
+    _broken: set[str]
+    _dummy_links: dict[str, str | None]  # links scripts made or undid (sim.setLinkDummy)
+    _link_constraints: dict[str, int]  # a dynamically linked dummy -> its pybullet constraint
     _forces: dict[str, tuple[tuple, tuple]]
 
     if TYPE_CHECKING:  # supplied by World
@@ -68,6 +74,12 @@ class Holds:
         def link_frame(self, body: int, link: int) -> tuple: ...
 
         def proximity_sensor(self, handle: int | str) -> Any: ...
+
+        def kind(self, handle: int | str) -> str: ...
+
+        def created(self, handle: int) -> Any: ...
+
+        def handle_of(self, handle: int | str) -> int: ...
 
     # -- static shapes that move what lies on them (conveyor belts) ----------------------------
     def set_initial_velocity(
@@ -165,29 +177,58 @@ class Holds:
             return p.getBasePositionAndOrientation(body, physicsClientId=c)
         return p.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=c)[:2]
 
-    def hold(self, part: int | str, by: int | str) -> None:
-        """Hold a dynamic part rigidly on the link ``by`` rides on, where it is now (what a
-        gripper's script means by re-parenting a grasped part); held again if already held."""
-        name, holder = self.object_name(part), self.object_name(by)
+    def _dynamic_shape(self, name: str) -> bool:
         shape = getattr(self.model.data.get(name), "shape", None)
+        return shape is not None and not shape.dynamics.static
+
+    def _free_dynamic(self, name: str) -> bool:
+        """A dynamic shape that is its own body's base (not a link of a chain)."""
         ref = self._objects.get(name)
-        if shape is None or shape.dynamics.static or ref is None or ref.link >= 0:
+        if ref is None or ref.body < 0 or ref.link >= 0:
+            return False
+        shape = getattr(self.model.data.get(name), "shape", None)
+        if shape is not None:
+            return not shape.dynamics.static
+        made = self.created(self.handle_of(name))  # a shape a script created
+        return made is not None and made.kind == "shape" and made.mass > 0
+
+    def can_hold(self, part: int | str) -> bool:
+        """True when ``part`` is a free dynamic shape (what hold() takes)."""
+        return self._free_dynamic(self.object_name(part))
+
+    def hold(self, part: int | str, by: int | str | None) -> None:
+        """Hold a dynamic part rigidly on the link ``by`` rides on (None: the world), where it
+        is now (what a gripper's script means by re-parenting a grasped part onto its attach
+        point, or by making it static under the gripper); held again if already held.
+        ValueError for a part that is not a free dynamic shape, or a broken force sensor."""
+        name = self.object_name(part)
+        holder = None if by is None else self.object_name(by)
+        if not self._free_dynamic(name):
             raise ValueError(f"{name!r} is not a free dynamic shape: it cannot be held")
+        if holder in self._broken:
+            raise ValueError(f"force sensor {holder!r} is broken: it holds nothing")
+        ref = self._objects[name]
         self.release(name)
-        at = self._carrier(holder)
+        at = (-1, -1) if holder is None else self._carrier(holder)
         if at[0] == ref.body:
             raise ValueError(f"{name!r} cannot hold itself")
         c = self._cid
-        parent, child = self._com(*at), self._com(ref.body, -1)
-        rel = p.multiplyTransforms(*p.invertTransform(*parent), *child)
-        cid = p.createConstraint(
-            at[0], at[1], ref.body, -1, p.JOINT_FIXED, (0, 0, 0), rel[0], (0, 0, 0), rel[1],
-            (0, 0, 0, 1), physicsClientId=c,
-        )  # fmt: skip
-        p.changeConstraint(cid, maxForce=HOLD_FORCE_N, erp=0.8, physicsClientId=c)
-        if at[0] >= 0:
+        child = self._com(ref.body, -1)
+        if at[0] < 0:  # on the world (or an object that stands on it): the part's own frame
+            cid = p.createConstraint(
+                ref.body, -1, -1, -1, p.JOINT_FIXED, (0, 0, 0), (0, 0, 0), child[0],
+                (0, 0, 0, 1), child[1], physicsClientId=c,
+            )  # fmt: skip
+        else:
+            rel = p.multiplyTransforms(*p.invertTransform(*self._com(*at)), *child)
+            cid = p.createConstraint(
+                at[0], at[1], ref.body, -1, p.JOINT_FIXED, (0, 0, 0), rel[0], (0, 0, 0),
+                rel[1], (0, 0, 0, 1), physicsClientId=c,
+            )  # fmt: skip
             p.setCollisionFilterPair(at[0], ref.body, at[1], -1, 0, physicsClientId=c)
-        self._held[name] = Hold(cid, (ref.body, -1), at)
+        p.changeConstraint(cid, maxForce=HOLD_FORCE_N, erp=0.8, physicsClientId=c)
+        via = holder if holder is not None and self.kind(holder) == "force_sensor" else ""
+        self._held[name] = Hold(cid, (ref.body, -1), at, via)
 
     def release(self, part: int | str) -> bool:
         """Let a held part go (False: it was not held)."""
@@ -206,6 +247,105 @@ class Holds:
         """The (body, link) holding a part, or None."""
         hold = self._held.get(self.object_name(part))
         return None if hold is None else hold.by
+
+    def break_force_sensor(self, sensor: int | str) -> list[str]:
+        """sim.breakForceSensor: the sensor links nothing any more (until the scene is rebuilt,
+        as CoppeliaSim restores it at the simulation's end); the parts held on it come loose.
+        Returns their names. A sensor built as a joint of a dynamic chain (a force sensor between
+        two links of one model) keeps its links together: the chain is one pybullet body."""
+        name = self.object_name(sensor)
+        if self.kind(name) != "force_sensor":
+            raise ValueError(f"{name!r} is not a force sensor")
+        self._broken.add(name)
+        at = self.force_sensor_joint(name)
+        if at is not None and any(
+            (r.body, r.link) == at and r.name != name and self._dynamic_shape(r.name)
+            for r in self._objects.values()
+        ):
+            note = f"{name}: broken, but it joins two links of one body here: they stay together"
+            if note not in self.model.notes:
+                self.model.notes.append(note)
+        loose = [part for part, hold in self._held.items() if hold.via == name]
+        for part in loose:
+            self.release(part)
+        return loose
+
+    def force_sensor_broken(self, sensor: int | str) -> bool:
+        return self.object_name(sensor) in self._broken
+
+    def _enable_force_sensors(self) -> None:
+        """Force sensors measure from the first physics step on (CoppeliaSim's readForceSensor
+        has values once the dynamics ran): pybullet reports a joint's reaction only when asked
+        before stepping."""
+        for o in self.model.data.values():
+            if getattr(o, "kind", "") == "force_sensor":
+                at = self.force_sensor_joint(o.name)
+                if at is not None:
+                    p.enableJointForceTorqueSensor(*at, True, physicsClientId=self._cid)
+
+    def force_sensor_joint(self, sensor: int | str) -> tuple[int, int] | None:
+        """The pybullet (body, joint index) a force sensor was built as: the fixed joint of its
+        own link (its reaction is what the sensor measures), or None when the sensor is not
+        part of a dynamic body (nothing dynamic on either side)."""
+        name = self.object_name(sensor)
+        j = self._joints.get(name)
+        if j is not None:
+            return j.body, j.index
+        ref = self._objects.get(name)
+        if ref is None or ref.body < 0 or ref.link < 0 or ref.offset_pos != (0.0, 0.0, 0.0):
+            return None
+        info = p.getJointInfo(ref.body, ref.link, physicsClientId=self._cid)
+        return (ref.body, ref.link) if info[2] == p.JOINT_FIXED else None
+
+    # -- dummy-dummy links a script makes (sim.setLinkDummy) ------------------------------------
+    def link_dummies(self, dummy: int | str, other: int | str | None, dynamic: bool) -> None:
+        """sim.setLinkDummy: link two dummies (``other`` None: undo the dummy's link). A link
+        of a dynamics type ("overlap constraint": a suction pad's dummy re-parented onto the
+        part, linked to the pad's) holds the two dummies' frames together through the bodies
+        they ride on, as a loop closure does; an IK tip-target link only pairs them for IK
+        (``linked_dummy``). A loop closure saved with the scene stays built when undone."""
+        a = self.object_name(dummy)
+        self._unlink(a)
+        if other is None:
+            return
+        b = self.object_name(other)
+        if a == b:
+            raise ValueError(f"dummy {a!r} cannot be linked to itself")
+        self._unlink(b)
+        self._dummy_links[a], self._dummy_links[b] = b, a
+        if dynamic:
+            self._overlap(a, b)
+
+    def _unlink(self, name: str) -> None:
+        partner = self.linked_dummy(name)
+        for n in (name, None if partner is None else self.object_name(partner)):
+            if n is None:
+                continue
+            self._dummy_links[n] = None
+            cid = self._link_constraints.pop(n, None)
+            if cid is not None:
+                p.removeConstraint(cid, physicsClientId=self._cid)
+
+    def _overlap(self, a: str, b: str) -> None:
+        """A constraint bringing dummy ``a``'s frame onto dummy ``b``'s (riding their links)."""
+        ra, rb = self._objects.get(a), self._objects.get(b)
+        if ra is None or rb is None:
+            raise ValueError(f"{a!r} and {b!r} must be dummies on the scene's bodies or the world")
+        if (ra.body, ra.link) == (rb.body, rb.link) or (ra.body < 0 and rb.body < 0):
+            return  # nothing moves one against the other
+        if ra.body < 0:
+            ra, rb, a, b = rb, ra, b, a
+        c = self._cid
+        ends = []
+        for ref, name in ((ra, a), (rb, b)):
+            com = self._com(ref.body, ref.link)
+            ends.append(p.multiplyTransforms(*p.invertTransform(*com), *self.object_pose(name)))
+        cid = p.createConstraint(
+            ra.body, ra.link, rb.body, rb.link, p.JOINT_FIXED, (0, 0, 0), ends[0][0], ends[1][0],
+            ends[0][1], ends[1][1], physicsClientId=c,
+        )  # fmt: skip
+        p.changeConstraint(cid, maxForce=HOLD_FORCE_N, erp=0.8, physicsClientId=c)
+        self._link_constraints[a] = cid
 
     # -- forces a script adds (sim.addForce, sim.addForceAndTorque) ----------------------------
     def add_force_and_torque(self, handle: int | str, force: tuple, torque: tuple) -> None:

@@ -85,6 +85,10 @@ class Mechanisms:
         self.paths = PathObjects(self, self.source)
         self._belts = {}
         self._held = {}
+        self._broken = set()  # force sensors broken this run (sim.breakForceSensor)
+        self._enable_force_sensors()
+        self._dummy_links = {}
+        self._link_constraints = {}
         # CoppeliaSim's main script handles paths and IK groups at each pass's actuation; the
         # World does it before a pass's first physics step (after the scripts' actuation)
         self._pass_work = bool(self.kinematics.groups or self.paths.paths)
@@ -165,8 +169,13 @@ class Mechanisms:
         return float(getattr(data, "ik_weight", 1.0))
 
     def linked_dummy(self, handle: int | str) -> int | None:
-        """The handle of the dummy a dummy is linked to (an IK tip's target), or None."""
-        data = self.model.data.get(self.object_name(handle))
+        """The handle of the dummy a dummy is linked to (an IK tip's target), or None: the
+        scene's link unless a script made or undid one (sim.setLinkDummy)."""
+        name = self.object_name(handle)
+        if name in self._dummy_links:
+            other = self._dummy_links[name]
+            return None if other is None else self.handle(other)
+        data = self.model.data.get(name)
         dummy = getattr(data, "dummy", None)
         if dummy is None or dummy.linked_to is None:
             return None

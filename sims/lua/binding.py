@@ -26,6 +26,7 @@ import lupa.lua54 as lua54
 
 from sims.scene.paths import name_suffix
 from sims.simapi.context import Caller, SimError
+from sims.simapi.ik import CONSTANTS as IK_CONSTANTS
 from sims.simapi.table import BLOCKING, FUNCTIONS, OLD_NAMES, old_name
 
 from .constants import constants
@@ -172,6 +173,8 @@ class Binder:
         k = key.decode("utf-8", "replace")
         if module == "sim" and k in self.consts:
             return self.consts[k]
+        if module == "simIK" and k in IK_CONSTANTS:
+            return IK_CONSTANTS[k]
         label = module + "." + k
         fn = FUNCTIONS.get(label)
         if fn is None:

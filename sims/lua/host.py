@@ -305,8 +305,8 @@ class ScriptHost:
     def _joint_callback(self, run: ScriptRun, count: int) -> None:
         w = self.world
         h = run.object
-        j = w._joints[w.name_of(h)]
-        command = w._commands.get(j.name)
+        j = w.joint(h)
+        command = w.motor_command(h)
         pos = w.joint_position(h)
         target = command[1] if command and command[0] == "position" else pos
         low = j.lower if j.lower is not None else -3.141592653589793

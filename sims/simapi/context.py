@@ -15,6 +15,7 @@ data blocks, user interfaces, drawing objects, collections, parameters, the mess
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -54,6 +55,7 @@ class Store:
     motions: dict[int, Any] = field(default_factory=dict)  # rmlPos/rmlVel objects
     next_handle: dict[str, int] = field(default_factory=dict)
     selection: list[int] = field(default_factory=list)
+    ik_envs: dict[int, Any] = field(default_factory=dict)  # simIK environments (ik.py)
 
     def new_handle(self, kind: str, first: int = 1) -> int:
         h = self.next_handle.get(kind, first)
@@ -61,10 +63,31 @@ class Store:
         return h
 
 
+#: each World's Store, kept beside the World (not in it: the World's state is its own) and
+#: dropped with it; a stand-in world that takes no weak reference is kept by id
+_STORES: weakref.WeakKeyDictionary[Any, Store] = weakref.WeakKeyDictionary()
+_PINNED: dict[int, tuple[Any, Store]] = {}
+
+
+def _kept(world: Any) -> Store | None:
+    try:
+        return _STORES.get(world)
+    except TypeError:
+        pinned = _PINNED.get(id(world))
+        return pinned[1] if pinned is not None and pinned[0] is world else None
+
+
+def _keep(world: Any, s: Store) -> None:
+    try:
+        _STORES[world] = s
+    except TypeError:
+        _PINNED[id(world)] = (world, s)
+
+
 def store(world: Any) -> Store:
     """The world's store (made on first use; it outlives ``reset()``, as CoppeliaSim keeps
     custom data and UIs across simulations)."""
-    s = getattr(world, "_sim_store", None)
+    s = _kept(world)
     if s is None:
         s = Store()
         for block in getattr(getattr(world, "source", None), "custom_data", None) or ():
@@ -75,7 +98,7 @@ def store(world: Any) -> Store:
             h = world.handle(param.owner)
             if h is not None:
                 s.script_params[(h, param.tag)] = bytes.fromhex(param.hex)
-        world._sim_store = s
+        _keep(world, s)
     return s
 
 

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .context import Caller, SimError
+from .objects import attach_dynamic, dummy_link_type
 from .values import buffer, integer, number, table, text
 
 
@@ -241,7 +242,11 @@ def get_object_float_param(c: Caller, h: Any, pid: Any) -> Any:
 def set_object_int_param(c: Caller, h: Any, pid: Any, value: Any) -> int:
     hh = c.handle(h)
     c.entry(hh)
-    c.store.object_params[(hh, integer(pid, 2))] = integer(value, 3)
+    key = integer(pid, 2)
+    c.store.object_params[(hh, key)] = integer(value, 3)
+    if key == 3003:  # shapeintparam_static: a part made static rides its parent, or is freed
+        up = c.world.parent_of_object(hh)
+        attach_dynamic(c, hh, -1 if up is None else up)
     return c.done
 
 
@@ -252,8 +257,10 @@ def get_object_int_param(c: Caller, h: Any, pid: Any) -> Any:
     value = c.store.object_params.get((hh, key))
     if value is None:
         value = 0
+        if key == 10000:  # dummyintparam_link_type
+            value = dummy_link_type(c, hh)
         if key == 3003:  # shapeintparam_static
-            ref = c.world._objects.get(c.world.name_of(hh))
+            ref = c.world.object_ref(hh)
             value = int(ref is None or ref.body < 0 or _body_dynamics(c, hh) == 0.0)
     return int(value) if c.new_api else (1, int(value))
 
@@ -261,7 +268,7 @@ def get_object_int_param(c: Caller, h: Any, pid: Any) -> Any:
 def _body_dynamics(c: Caller, h: int, mass: float | None = None) -> float:
     from sims.quiet import pybullet as p
 
-    ref = c.world._objects.get(c.world.name_of(h))
+    ref = c.world.object_ref(h)
     if ref is None or ref.body < 0:
         return 0.0
     cid = c.world.client_id

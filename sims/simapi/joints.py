@@ -55,8 +55,7 @@ def set_joint_target_velocity(c: Caller, h: Any, value: Any, *motion: Any) -> in
 def _target(c: Caller, h: Any, kind: str) -> float:
     hh = _joint(c, h)
     _run(cmd.joint, c.world, hh)
-    command = getattr(c.world, "motor_command", None)  # World.motor_command (issue 34)
-    got = command(hh) if command is not None else c.world._commands.get(c.world.name_of(hh))
+    got = c.world.motor_command(hh)
     if got is not None and got[0] == kind:
         return float(got[1])
     return get_joint_position(c, hh) if kind == "position" else 0.0
@@ -142,82 +141,35 @@ def is_dynamically_enabled(c: Caller, h: Any) -> bool:
     e = c.entry(hh)
     if e.kind == "joint":
         return get_joint_mode(c, hh)[0] == 5
-    ref = c.world._carried(hh) if hasattr(c.world, "_carried") else None
+    ref = c.world.object_ref(hh)
     return ref is not None and ref.body >= 0
 
 
 # -- forces --------------------------------------------------------------------------------------
-def _body_link(c: Caller, hh: int) -> tuple[int, int]:
-    name = c.world.name_of(hh)
-    ref = c.world._objects.get(name)
-    if ref is None or ref.body < 0:
-        raise SimError(f"object {name!r} is not a dynamic shape")
-    return ref.body, ref.link
+def _dynamic_shape(c: Caller, h: Any) -> int:
+    hh = c.handle(h)
+    e = c.entry(hh)
+    if e.kind != "shape":
+        raise SimError(f"object {e.name!r} is not a shape")
+    return hh
 
 
 def add_force(c: Caller, h: Any, position: Any, force: Any) -> int | None:
-    """A force given in the shape's frame, acting at ``position`` (the shape's frame): the force
-    at the centre of mass and the torque ``position x force``, both turned into world axes, as
-    CoppeliaSim's simAddForce does; applied during the whole next simulation pass (CoppeliaSim
-    clears added forces after handling the dynamics)."""
-    hh = c.handle(h)
-    c.entry(hh)
-    body, link = _body_link(c, hh)
-    r, f = vector(position, 3, 2), vector(force, 3, 3)
-    t = (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
-    q = c.world.object_pose(hh)[1]
-    fw = p.multiplyTransforms((0, 0, 0), q, f, (0, 0, 0, 1))[0]
-    tw = p.multiplyTransforms((0, 0, 0), q, t, (0, 0, 0, 1))[0]
-    _add(c, body, link, tuple(fw), None, tuple(tw))
+    """A force given in the shape's frame, acting at ``position`` (the shape's frame), for the
+    next simulation pass (``World.add_force``: CoppeliaSim clears added forces after handling
+    the dynamics; a static shape ignores them)."""
+    hh = _dynamic_shape(c, h)
+    c.world.add_force(hh, tuple(vector(position, 3, 2)), tuple(vector(force, 3, 3)))
     return c.done
 
 
 def add_force_and_torque(c: Caller, h: Any, force: Any = None, torque: Any = None) -> int:
     """A force at the centre of mass and a torque (world axes), for the next pass."""
-    hh = c.handle(h)
-    c.entry(hh)
-    body, link = _body_link(c, hh)
+    hh = _dynamic_shape(c, h)
     f = tuple(vector(force, 3, 2)) if force is not None else (0.0, 0.0, 0.0)
     t = tuple(vector(torque, 3, 3)) if torque is not None else (0.0, 0.0, 0.0)
-    _add(c, body, link, f, None, t)
+    c.world.add_force_and_torque(hh, f, t)
     return c.done
-
-
-def _add(c: Caller, body: int, link: int, force: Any, at: Any, torque: Any) -> None:
-    """Keep an added force for the pass it was added for: applied now (for the next physics
-    step) and, by a step hook, before each further physics step of that pass."""
-    world = c.world
-    state = getattr(world, "_added_forces", None)
-    if state is None:
-        state = world._added_forces = {"items": []}
-
-        def apply_next(w: Any) -> None:
-            items = state["items"]
-            if items:
-                items[:] = [i for i in items if i[1] <= w.steps < i[0]]
-                _apply(w, [i[2] for i in items if i[1] != w.steps])
-
-        world.add_step_hook(apply_next)
-    spp = max(1, round(c.pass_dt / world.timestep))
-    item = (body, link, force, at, torque)
-    state["items"].append((world.steps + spp, world.steps, item))
-    _apply(world, [item])
-
-
-def _apply(world: Any, forces: list[Any]) -> None:
-    cid = world.client_id
-    for body, link, force, at, torque in forces:
-        if at is None:
-            com = (
-                p.getBasePositionAndOrientation(body, physicsClientId=cid)[0]
-                if link < 0
-                else p.getLinkState(body, link, computeForwardKinematics=1, physicsClientId=cid)[0]
-            )
-            at = tuple(com)
-        if any(force):
-            p.applyExternalForce(body, link, force, at, p.WORLD_FRAME, physicsClientId=cid)
-        if torque is not None and any(torque):
-            p.applyExternalTorque(body, link, torque, p.WORLD_FRAME, physicsClientId=cid)
 
 
 # -- force sensors -------------------------------------------------------------------------------
@@ -228,27 +180,21 @@ def read_force_sensor(c: Caller, h: Any) -> tuple[int, list[float], list[float]]
     e = c.entry(hh)
     if e.kind != "force_sensor":
         raise SimError(f"object {e.name!r} is not a force sensor")
-    broken = c.store.object_params.get((hh, "broken"), False)
-    j = c.world._joints.get(e.name)
+    broken = c.world.force_sensor_broken(hh)
+    j = c.world.force_sensor_joint(hh)
     if j is None or broken:
         return (3 if broken else 1), [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
-    cid = c.world.client_id
-    if not c.store.object_params.get((hh, "ft_enabled")):
-        p.enableJointForceTorqueSensor(j.body, j.index, True, physicsClientId=cid)
-        c.store.object_params[(hh, "ft_enabled")] = True
-    reaction = p.getJointState(j.body, j.index, physicsClientId=cid)[2]
+    body, index = j
+    reaction = p.getJointState(body, index, physicsClientId=c.world.client_id)[2]
     return 1, [float(v) for v in reaction[:3]], [float(v) for v in reaction[3:6]]
 
 
 def break_force_sensor(c: Caller, h: Any) -> int:
-    """The sensor breaks: what hangs on it comes loose (``World.break_force_sensor``, mech's);
-    reading it reports broken."""
+    """The sensor breaks: what hangs on it comes loose (``World.break_force_sensor``); reading
+    it reports broken for the rest of the simulation."""
     hh = c.handle(h)
     e = c.entry(hh)
     if e.kind != "force_sensor":
         raise SimError(f"object {e.name!r} is not a force sensor")
-    c.store.object_params[(hh, "broken")] = True
-    breaker = getattr(c.world, "break_force_sensor", None)
-    if breaker is not None:
-        breaker(hh)
+    c.world.break_force_sensor(hh)
     return c.done

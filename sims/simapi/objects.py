@@ -301,7 +301,79 @@ def set_object_parent(c: Caller, h: Any, parent: Any, keep_in_place: Any = True)
         c.world.set_parent(h, None if up == -1 else up, flag(keep_in_place, True))
     except ValueError as exc:
         raise SimError(str(exc)) from None
+    attach_dynamic(c, h, up)
     return c.done
+
+
+def attach_dynamic(c: Caller, h: int, up: int) -> None:
+    """CoppeliaSim links two dynamic bodies only through a joint or a force sensor: a free
+    dynamic shape hung on an unbroken force sensor (a gripper's attach point) is held there
+    rigidly (``World.hold``) and comes loose when re-parented elsewhere or when the sensor
+    breaks; hung on anything else it stays a free body, as it does in CoppeliaSim. A shape a
+    script made static (``sim.shapeintparam_static``) rides its parent (the world: stays put),
+    the other fake-grasp pattern."""
+    world = c.world
+    if not world.can_hold(h):
+        return
+    world.release(h)
+    parent = None if up == -1 else up
+    try:
+        if c.store.object_params.get((h, 3003)) == 1:
+            world.hold(h, parent)
+        elif parent is not None and world.kind(parent) == "force_sensor":
+            if not world.force_sensor_broken(parent):
+                world.hold(h, parent)
+    except ValueError as exc:
+        raise SimError(str(exc)) from None
+
+
+#: sim.dummy_linktype_* (CoppeliaSim's numbers) -> the scene model's names
+LINK_TYPES = {
+    0: "dynamics_loop_closure",
+    1: "dynamics_force_constraint",
+    2: "gcs_loop_closure",
+    3: "gcs_tip",
+    4: "gcs_target",
+    5: "ik_tip_target",
+}
+LINK_TYPE_NUMBERS = {v: k for k, v in LINK_TYPES.items()}
+
+
+def dummy_link_type(c: Caller, h: int) -> int:
+    """A dummy's sim.dummyintparam_link_type: what a script set, else the scene's, else
+    CoppeliaSim's default for a new dummy (IK tip-target)."""
+    got = c.store.object_params.get((h, 10000))
+    if got is not None:
+        return int(got)
+    data = getattr(c.world.model.data.get(c.world.name_of(h) or ""), "dummy", None)
+    return LINK_TYPE_NUMBERS.get(getattr(data, "link_type", ""), 5)
+
+
+def _dummy(c: Caller, h: Any, position: int) -> int:
+    hh = c.handle(h, position)
+    e = c.entry(hh)
+    if e.kind != "dummy":
+        raise SimError(f"argument {position}: object {e.name!r} is not a dummy")
+    return hh
+
+
+def set_link_dummy(c: Caller, h: Any, other: Any) -> int | None:
+    """Link two dummies (-1: undo the link); a dynamics link type (of either dummy) holds
+    them together through their bodies (``World.link_dummies``)."""
+    a = _dummy(c, h, 1)
+    o = integer(other, 2)
+    b = None if o == -1 else _dummy(c, o, 2)
+    dynamic = any(dummy_link_type(c, x) in (0, 1) for x in (a, b) if x is not None)
+    try:
+        c.world.link_dummies(a, b, dynamic)
+    except ValueError as exc:
+        raise SimError(str(exc)) from None
+    return c.done
+
+
+def get_link_dummy(c: Caller, h: Any) -> int:
+    found = c.world.linked_dummy(_dummy(c, h, 1))
+    return -1 if found is None else int(found)
 
 
 def copy_paste_objects(c: Caller, handles: Any, opts: Any = 0) -> list[int]:

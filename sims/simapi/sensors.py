@@ -181,7 +181,7 @@ def _links(c: Caller, entity: Any) -> set[tuple[int, int]] | None:
         objs = [hh]
     out = set()
     for o in objs:
-        ref = c.world._objects.get(c.world.name_of(o))
+        ref = c.world.object_ref(o)
         if ref is not None and ref.body >= 0:
             out.add((ref.body, ref.link))
     return out

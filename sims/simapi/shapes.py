@@ -13,7 +13,7 @@ from .values import integer, number, numbers, text
 
 
 def _body(c: Caller, h: int) -> tuple[int, int]:
-    ref = c.world._objects.get(c.world.name_of(h))
+    ref = c.world.object_ref(h)
     if ref is None or ref.body < 0:
         raise SimError(f"object {c.world.name_of(h)!r} has no body")
     return ref.body, ref.link
@@ -86,9 +86,9 @@ def get_contact_info(c: Caller, dynamic_pass: Any, h: Any, index: Any) -> Any:
 
 
 def _handle_of(c: Caller, body: int, link: int) -> int:
-    for name, ref in c.world._objects.items():
-        if ref.body == body and ref.link == link and c.world.kind(name) == "shape":
-            return int(c.world.handle(name))
+    for ref in c.world.object_refs():
+        if ref.body == body and ref.link == link and c.world.kind(ref.name) == "shape":
+            return int(c.world.handle(ref.name))
     return -1
 
 

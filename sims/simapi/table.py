@@ -16,7 +16,7 @@ import inspect
 from collections.abc import Callable
 from typing import Any
 
-from . import data, joints, mechanisms, motion, objects, poses, sensors, shapes, simulation, ui
+from . import data, ik, joints, mechanisms, motion, objects, poses, sensors, shapes, simulation, ui
 
 Fn = Callable[..., Any]
 
@@ -60,6 +60,8 @@ FUNCTIONS: dict[str, Fn] = {
     "sim.scaleObject": objects.scale_object,
     "sim.scaleObjects": objects.scale_objects,
     "sim.resetDynamicObject": objects.reset_dynamic_object,
+    "sim.setLinkDummy": objects.set_link_dummy,
+    "sim.getLinkDummy": objects.get_link_dummy,
     "sim.getConfigurationTree": objects.get_configuration_tree,
     "sim.setConfigurationTree": objects.set_configuration_tree,
     "sim.loadModel": objects.load_model,
@@ -248,6 +250,36 @@ FUNCTIONS: dict[str, Fn] = {
     "sim.getIkGroupHandle": mechanisms.get_ik_group_handle,
     "sim.handleIkGroup": mechanisms.handle_ik_group,
     "sim.getConfigForTipPose": mechanisms.get_config_for_tip_pose,
+    "sim.setIkGroupProperties": ik.sim_set_ik_group_properties,
+    "sim.setIkElementProperties": ik.sim_set_ik_element_properties,
+    # simIK: the kinematics plug-in of 4.2-4.5 and its 4.6 names
+    "simIK.createEnvironment": ik.create_environment,
+    "simIK.eraseEnvironment": ik.erase_environment,
+    "simIK.duplicateEnvironment": ik.duplicate_environment,
+    "simIK.createIkGroup": ik.create_group,
+    "simIK.createGroup": ik.create_group,
+    "simIK.getIkGroupHandle": ik.get_group_handle,
+    "simIK.getGroupHandle": ik.get_group_handle,
+    "simIK.setIkGroupCalculation": ik.set_group_calculation,
+    "simIK.setGroupCalculation": ik.set_group_calculation,
+    "simIK.addIkElementFromScene": ik.add_element_from_scene,
+    "simIK.addElementFromScene": ik.add_element_from_scene_46,
+    "simIK.setIkElementPrecision": ik.set_element_precision,
+    "simIK.setElementPrecision": ik.set_element_precision,
+    "simIK.setIkElementWeights": ik.set_element_weights,
+    "simIK.setElementWeights": ik.set_element_weights,
+    "simIK.setIkElementConstraints": ik.set_element_constraints,
+    "simIK.setElementConstraints": ik.set_element_constraints,
+    "simIK.handleIkGroup": ik.handle_ik_group,
+    "simIK.handleGroup": ik.handle_group,
+    "simIK.applySceneToIkEnvironment": ik.apply_scene_to_ik_environment,
+    "simIK.applyIkEnvironmentToScene": ik.apply_ik_environment_to_scene,
+    "simIK.getConfigForTipPose": ik.find_config,
+    "simIK.findConfig": ik.find_config,
+    "simIK.getJointPosition": ik.get_joint_position,
+    "simIK.setJointPosition": ik.set_joint_position,
+    "simIK.getJointMode": ik.get_joint_mode,
+    "simIK.setJointMode": ik.set_joint_mode,
     "sim.generateIkPath": mechanisms.generate_ik_path,
     "sim.getPathPosition": mechanisms.get_path_position,
     "sim.setPathPosition": mechanisms.set_path_position,
