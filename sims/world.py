@@ -96,7 +96,8 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds, WorldObjects):
     def _build(self) -> None:
         c = self._cid
         p.resetSimulation(physicsClientId=c)
-        p.setGravity(0, 0, GRAVITY, physicsClientId=c)
+        self.gravity = tuple(getattr(self.source, "gravity", None) or (0.0, 0.0, GRAVITY))
+        p.setGravity(*self.gravity, physicsClientId=c)  # the scene's own (a .ttt's DYN chunk)
         p.setTimeStep(self.timestep, physicsClientId=c)
         p.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
         physics = getattr(self.source, "physics", None)
@@ -162,6 +163,11 @@ class World(JointMotors, WorldDrawing, Mechanisms, Holds, WorldObjects):
         if self._client is None:
             raise RuntimeError("World is closed")
         return self._client
+
+    def set_gravity(self, gravity: tuple[float, float, float]) -> None:
+        """sim.setArrayParam(sim.arrayparam_gravity): from the next physics step on."""
+        self.gravity = tuple(float(v) for v in gravity)
+        p.setGravity(*self.gravity, physicsClientId=self._cid)
 
     @property
     def client_id(self) -> int:

@@ -24,7 +24,8 @@ MAX_SIDE = 1024  # px: larger saved resolutions are refused (render time)
 BACK_OFF = 100.0  # an orthographic sensor's eye sits this many times its depth range behind it
 
 
-def _back_off(data: VisionSensorData) -> float:
+def back_off(data: VisionSensorData) -> float:
+    """How far behind an orthographic sensor its view is drawn from (see _projection)."""
     return BACK_OFF * max(data.far, data.ortho_size)
 
 
@@ -35,7 +36,7 @@ def _projection(data: VisionSensorData, width: int, height: int) -> list[float]:
         # glOrtho's, and computeProjectionMatrix is glFrustum, a wide perspective), so an
         # orthographic sensor is drawn as a perspective from far behind it whose view spans
         # ortho_size at the sensor: straight rays to within (far - near) / BACK_OFF.
-        back = _back_off(data)
+        back = back_off(data)
         half = data.ortho_size / 2
         ratio = width / height
         hy = half if width < height else half / ratio
@@ -71,7 +72,7 @@ def capture_sensor(world: Any, name: str) -> tuple[VisionSensorData, np.ndarray,
     target = (pos[0] + z[0], pos[1] + z[1], pos[2] + z[2])
     eye = tuple(pos)
     if not sensor.perspective:
-        back = _back_off(sensor)
+        back = back_off(sensor)
         eye = (pos[0] - back * z[0], pos[1] - back * z[1], pos[2] - back * z[2])
     view = p.computeViewMatrix(eye, target, y)
     with quiet_fd(1), quiet_fd(2):

@@ -170,6 +170,7 @@ ADDED: dict[str, int] = {
     "handleflag_greyscale": 0x00400000,
     "handleflag_togglevisibility": 0x00400000,
     "handleflag_abscoords": 0x00800000,
+    "handleflag_depthbuffermeters": 0x00800000,
     "handleflag_model": 0x00800000,
     "handleflag_rawvalue": 0x01000000,
     "handleflag_wxyzquat": 0x01000000,

@@ -56,6 +56,7 @@ class Store:
     next_handle: dict[str, int] = field(default_factory=dict)
     selection: list[int] = field(default_factory=list)
     ik_envs: dict[int, Any] = field(default_factory=dict)  # simIK environments (ik.py)
+    consoles: dict[int, list[str]] = field(default_factory=dict)  # [title, unfinished line]
 
     def new_handle(self, kind: str, first: int = 1) -> int:
         h = self.next_handle.get(kind, first)

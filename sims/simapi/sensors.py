@@ -13,9 +13,10 @@ from sims.remote_api import commands as cmd
 
 from .context import Caller, SimError
 from .objects import HANDLE_ALL, collection_objects
-from .values import buffer, integer
+from .values import buffer, integer, numbers
 
 HANDLE_ALL_EXCEPT_EXPLICIT = -3
+DEPTH_METERS = 0x00800000  # sim.handleflag_depthbuffermeters
 NOTHING = (0, 0.0, [0.0, 0.0, 0.0], -1, [0.0, 0.0, 0.0])
 
 
@@ -135,6 +136,49 @@ def get_vision_sensor_img(c: Caller, h: Any, opts: Any = 0, *rest: Any) -> tuple
     if isinstance(opts, int) and opts & 1:
         rows = rows.astype("float32").mean(axis=2).round()
     return bytes(rows.astype("uint8").tobytes()), [int(rgb.shape[1]), int(rgb.shape[0])]
+
+
+def _depth(c: Caller, h: Any, meters: bool, pos: Any, size: Any) -> tuple[Any, int, int]:
+    """Depth rows bottom row first (0..1 between the clipping planes, or metres), cut to the
+    window ``pos``/``size`` when one is given (CoppeliaSim's [0, 0] size: the whole image)."""
+    import numpy as np
+
+    from sims.scene.camera import capture_sensor
+
+    from .vision import linear_depth
+
+    e = _vision(c, h)
+    try:
+        sensor, _rgba, zbuf = capture_sensor(c.world, e.name)
+        depth = linear_depth(sensor, zbuf)
+    except (KeyError, ValueError) as exc:
+        raise SimError(str(exc).strip("'\"")) from None
+    rows = depth[::-1]
+    x, y = (integer(v, 3) for v in (numbers(pos) + [0, 0])[:2]) if pos is not None else (0, 0)
+    w, hgt = (integer(v, 4) for v in (numbers(size) + [0, 0])[:2]) if size is not None else (0, 0)
+    if w > 0 and hgt > 0:
+        rows = rows[y : y + hgt, x : x + w]
+    if meters:
+        rows = sensor.near + rows * (sensor.far - sensor.near)
+    rows = np.ascontiguousarray(rows, dtype=np.float32)
+    return rows, int(rows.shape[1]), int(rows.shape[0])
+
+
+def get_vision_sensor_depth(
+    c: Caller, h: Any, opts: Any = 0, pos: Any = None, size: Any = None
+) -> tuple[bytes, list[int]]:
+    """4.x: (packed floats, [resX, resY]); bit 0 of ``opts``: metres instead of 0..1."""
+    meters = isinstance(opts, (int, float)) and int(opts) & 1
+    rows, w, hgt = _depth(c, h, bool(meters), pos, size)
+    return rows.tobytes(), [w, hgt]
+
+
+def get_vision_sensor_depth_buffer(c: Caller, h: Any, pos: Any = None, size: Any = None) -> list:
+    """3.x: depth values 0..1 (metres with ``sim.handleflag_depthbuffermeters``), bottom row
+    first."""
+    meters = isinstance(h, (int, float)) and int(h) & DEPTH_METERS
+    rows, _, _ = _depth(c, int(h) & ~DEPTH_METERS if meters else h, bool(meters), pos, size)
+    return [float(v) for v in rows.reshape(-1)]
 
 
 def get_vision_sensor_image(c: Caller, h: Any, *rest: Any) -> list[float]:

@@ -9,7 +9,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from .context import Caller, SimError
-from .values import flag, integer, number, text
+from .values import flag, integer, number, numbers, text
 
 PROGRAM_VERSION = 40600  # sim.getInt32Param(sim.intparam_program_version) for 4.x scenes
 #: parameter ids (sim.intparam_* / floatparam_* / boolparam_* / stringparam_*)
@@ -147,9 +147,21 @@ def set_string_param(c: Caller, pid: Any, value: Any) -> int:
 
 
 def get_array_param(c: Caller, pid: Any) -> list[float]:
-    if integer(pid, 1) != 0:  # sim.arrayparam_gravity
+    """sim.arrayparam_gravity (0): the scene's gravity, as its file or a script set it."""
+    if integer(pid, 1) != 0:
         raise SimError(f"parameter {pid} is not emulated")
-    return [0.0, 0.0, -9.81]
+    return [float(v) for v in c.world.gravity]
+
+
+def set_array_param(c: Caller, pid: Any, values: Any) -> int:
+    """sim.setArrayParam(sim.arrayparam_gravity, {x, y, z}): gravity from the next step."""
+    if integer(pid, 1) != 0:
+        raise SimError(f"parameter {pid} is not emulated")
+    xyz = numbers(values)
+    if len(xyz) < 3:
+        raise SimError("argument 2: three values (x, y, z) expected")
+    c.world.set_gravity((xyz[0], xyz[1], xyz[2]))
+    return c.done
 
 
 # -- messages and the status bar -----------------------------------------------------------------
@@ -178,6 +190,38 @@ def add_statusbar_message(c: Caller, message: Any = None) -> int:
 
 def add_log(c: Caller, verbosity: Any, message: Any = None) -> None:
     c.status(text(message) if message is not None else "")
+
+
+# -- auxiliary consoles: a headless run has no window, so their lines go where the status bar's go
+def auxiliary_console_open(c: Caller, title: Any, *rest: Any) -> int:
+    h = c.store.new_handle("console", 1)
+    c.store.consoles[h] = [text(title), ""]
+    return h
+
+
+def auxiliary_console_print(c: Caller, h: Any, message: Any = None) -> int:
+    """Text up to each newline becomes a line ``title: text``; ``nil`` clears (nothing kept)."""
+    console = c.store.consoles.get(integer(h, 1))
+    if console is None:
+        return 0
+    if message is None:
+        console[1] = ""
+        return 1
+    *lines, console[1] = (console[1] + text(message)).split("\n")
+    for line in lines:
+        c.status(f"{console[0]}: {line}")
+    return 1
+
+
+def auxiliary_console_close(c: Caller, h: Any) -> int:
+    console = c.store.consoles.pop(integer(h, 1), None)
+    if console is not None and console[1]:
+        c.status(f"{console[0]}: {console[1]}")
+    return 0 if console is None else 1
+
+
+def auxiliary_console_show(c: Caller, h: Any, show: Any = True) -> int:
+    return 1 if integer(h, 1) in c.store.consoles else 0
 
 
 # -- threads -------------------------------------------------------------------------------------

@@ -14,20 +14,24 @@ from typing import Any
 import numpy as np
 
 from sims.remote_api import commands as cmd
-from sims.scene.camera import capture_sensor
+from sims.scene.camera import back_off, capture_sensor
 
 
 def render_with_depth(world: Any, name: str) -> tuple[np.ndarray, np.ndarray]:
     """(HxWx3 uint8 RGB, HxW linear depth 0..1), top row first."""
     sensor, rgba, zbuf = capture_sensor(world, name)
-    rgb = rgba[:, :, :3]
+    return np.ascontiguousarray(rgba[:, :, :3]), linear_depth(sensor, zbuf)
+
+
+def linear_depth(sensor: Any, zbuf: np.ndarray) -> np.ndarray:
+    """Depth 0..1 between the sensor's clipping planes from the renderer's z-buffer: an
+    orthographic sensor is drawn as a perspective from ``back_off`` behind it, whose planes
+    are shifted by that distance."""
     near, far = max(sensor.near, 1e-4), max(sensor.far, sensor.near + 1e-3)
-    if sensor.perspective:
-        eye = far * near / (far - (far - near) * zbuf)
-        depth = (eye - near) / (far - near)
-    else:
-        depth = zbuf
-    return np.ascontiguousarray(rgb), np.clip(depth, 0.0, 1.0)
+    shift = 0.0 if sensor.perspective else back_off(sensor)
+    n, f = near + shift, far + shift
+    eye = f * n / (f - (f - n) * zbuf)
+    return np.clip((eye - n) / (f - n), 0.0, 1.0)
 
 
 def aux_packet(rgb: np.ndarray, depth: np.ndarray) -> list[float]:
