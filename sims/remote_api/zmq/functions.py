@@ -171,7 +171,7 @@ def adapt(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
 
 
 ADAPTED: dict[str, Callable[..., Any]] = {
-    n: adapt(n, f) for n, f in FUNCTIONS.items() if n.startswith("sim.")
+    n: adapt(n, f) for n, f in FUNCTIONS.items() if n.startswith(("sim.", "simIK."))
 }
 
 

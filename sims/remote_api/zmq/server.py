@@ -30,6 +30,16 @@ from . import paths
 from .constants import CONSTANTS
 from .registry import NOT_EMULATED
 
+
+def _ik_constants() -> dict[str, Any]:
+    from sims.simapi.ik import CONSTANTS as IK
+
+    return IK
+
+
+#: The modules a client may ``require``: their constants (functions: the table's, by prefix).
+MODULES = {"sim": lambda: CONSTANTS, "simIK": _ik_constants}
+
 #: Functions that look an object up by name or path (a success counts in Session.found_objects).
 LOOKUPS = frozenset({"sim.getObject", "sim.getObjectHandle"})
 
@@ -210,7 +220,7 @@ class ZmqServer:
                     return {"ret": [self.info(str(args[0]) if args else "")]}
                 if func == "zmqRemoteApi.require":
                     name = str(args[0]).split("-")[0] if args else ""
-                    if name != "sim":
+                    if name not in MODULES:
                         self.fail("function", f"module {name!r} is not emulated", func, name)
                     return {"ret": []}
                 impl = functions.get(func)
@@ -254,13 +264,15 @@ class ZmqServer:
 
     def info(self, name: str) -> dict[str, Any]:
         """``zmqRemoteApi.info``: the module's functions and constants, as the client expects."""
-        if name != "sim":
+        if name not in MODULES:
             return {}
-        out: dict[str, Any] = {k: {"const": v} for k, v in CONSTANTS.items()}
+        out: dict[str, Any] = {k: {"const": v} for k, v in MODULES[name]().items()}
         # functions not emulated are listed too: calling one answers "not emulated" (an
         # error naming it) instead of the client's AttributeError
+        prefix = name + "."
         for func in (*self.functions, *NOT_EMULATED):
-            out[func[len("sim.") :]] = {"func": {}}
+            if func.startswith(prefix):
+                out[func[len(prefix) :]] = {"func": {}}
         return out
 
 
