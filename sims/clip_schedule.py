@@ -93,7 +93,9 @@ def run_clips(todo: list[ClipRun], jobs: int | None, notify: Progress) -> Iterat
             clip.drawn[job.payload.start] = job.progress
             _tell(clip, notify)
 
-    workers = max(1, min(jobs or os.cpu_count() or 1, sum(c.total for c in todo)))
+    # every clip is at least one job (its simulation; a replay-only clip has no frames to
+    # draw), so a site of replays gets as many workers as clips, up to the cores
+    workers = max(1, min(jobs or os.cpu_count() or 1, sum(max(1, c.total) for c in todo)))
     log_dir = Path(tempfile.mkdtemp(prefix=".workers-", dir=todo[0].tmp.parent))
     pool = make_pool(workers, log_dir)  # local workers or Ray (sims.clip_pool.EXECUTOR)
     try:

@@ -211,4 +211,23 @@ def expand_directives(
             diags.error(file, line, f"::: {name}", str(exc.args[0] if exc.args else exc))
             return ""
 
-    return MARKER.sub(sub, fragment)
+    return keep_first_once(MARKER.sub(sub, fragment))
+
+
+ONCE = re.compile(r'<script data-once="([^"]*)"[^>]*></script>')
+
+
+def keep_first_once(html_text: str) -> str:
+    """Of the ``<script data-once="KEY">`` tags directives put in a page, the first per key
+    (a page with three replays loads the viewer once, and so does its slide deck)."""
+    if "data-once=" not in html_text:
+        return html_text
+    seen: set[str] = set()
+
+    def first(m: re.Match) -> str:
+        if m.group(1) in seen:
+            return ""
+        seen.add(m.group(1))
+        return m.group(0)
+
+    return ONCE.sub(first, html_text)

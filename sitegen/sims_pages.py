@@ -197,7 +197,7 @@ class SimsIntegration(Integration):
         text = Path(path).read_text(encoding="utf-8")
         return trusted(text) if text.startswith("<svg ") else None  # written by sims/plot.py
 
-    def clip_view(self, name: str, root: str, caption: bool = True) -> dict:
+    def clip_view(self, name: str, root: str, caption: bool = True, in_page: bool = False) -> dict:
         """What ``partials/clip.html`` shows of a clip: its replay (3D viewer over the poster) or
         its video, or a placeholder of its size with the reason it has none; a caption
         linking to the gallery unless ``caption`` is False (the gallery itself)."""
@@ -228,7 +228,9 @@ class SimsIntegration(Integration):
                     "glb": base + OUT_NAMES["replay"],
                     "three": root + THREE,
                     "viewer": root + VIEWER,
-                    "load_viewer": self._first_replay_on(),
+                    # a page's figures each carry the viewer (expand_directives keeps the
+                    # first, by its data-once: a page and its slide deck alike, in any order)
+                    "load_viewer": in_page or self._first_replay_on(),
                     "width": int(w),
                     "height": int(h),
                     "duration": f"{float(meta.get('duration', 0)):g}",
@@ -270,15 +272,15 @@ class SimsIntegration(Integration):
         return view
 
     def _first_replay_on(self) -> bool:
-        """Whether this replay's figure loads the viewer script: the first of its page only."""
+        """Whether this replay's figure in the gallery loads the viewer script: the first."""
         if self._page in self._viewer_pages:
             return False
         self._viewer_pages.add(self._page)
         return True
 
     def clip_html(self, name: str, root: str) -> str:
-        """A clip's figure with its caption, from the theme's ``partials/clip.html``."""
-        return self.partials.render("clip", clip=self.clip_view(name, root))
+        """A clip's figure in a page, with its caption, from the theme's ``partials/clip.html``."""
+        return self.partials.render("clip", clip=self.clip_view(name, root, in_page=True))
 
     def _section(self) -> str:
         return self.sims.section.strip("/") or "gallery"
@@ -287,7 +289,6 @@ class SimsIntegration(Integration):
         def clip(arg: str, node: Node) -> str:
             name = arg.strip()
             if name in self.results or name in self.failed or name in self.pending:
-                self._page = node.url
                 return self.clip_html(name, root_prefix(node.url))
             known = ", ".join(c.name for c in self.sims.clips) or "none configured"
             raise LookupError(f"no clip named '{name}' in sitegen.yml (known: {known})")

@@ -62,7 +62,7 @@ def test_a_page_shows_a_replay_or_a_video_as_asked(tmp_path):
     report = build(BuildOptions(source=source, output=out, strict=True, log=lambda line: None))
     assert [str(d) for d in report.diagnostics] == []
     home = (out / "index.html").read_text(encoding="utf-8")
-    assert home.count('<script src="assets/replay/replay.js" defer></script>') == 1
+    assert home.count('src="assets/replay/replay.js" defer></script>') == 1
     assert home.count('class="clip clip-replay"') == 2 and home.count("<video") == 1
     assert 'data-glb="clips/r/replay.glb"' in home and 'data-replay="clips/r/replay.js"' in home
     assert "模擬 2.0 秒 · 以 2× 播放 · " in home  # the replay starts at the clip's speed
@@ -86,3 +86,50 @@ def test_a_page_shows_a_replay_or_a_video_as_asked(tmp_path):
     ).exists()
     gallery = (out / "gallery" / "index.html").read_text(encoding="utf-8")
     assert 'href="../clips/r/replay.glb" download>3D 場景 (glTF)</a>' in gallery
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_page_and_its_slide_deck_each_load_the_viewer_once(tmp_path, monkeypatch, jobs):
+    """A deck is the page's own Markdown expanded a second time: both load the viewer once, in
+    whatever order and process they are made (one worker once left the deck without it: its
+    replays never played), and two replays in one page still load it once."""
+    monkeypatch.setenv("SITEGEN_JOBS", jobs)
+    source = write_tree(
+        tmp_path / "src",
+        {
+            "sitegen.yml": "title: t\nsims:\n  size: 64x48\n  fps: 4\n  clips:\n"
+            "    - {name: r, scenario: cart-reverse, seconds: 1}\n"
+            "    - {name: s, scenario: cart-avoid, seconds: 1}\n",
+            "content/index.md": "# Home\n\nHello.\n",
+            "content/talk.md": "---\nslides: true\n---\n# Talk\n\n::: clip r\n\n---\n\n"
+            "## Two\n\n::: clip s\n",
+        },
+    )
+    out = tmp_path / "site"
+    report = build(BuildOptions(source=source, output=out, strict=True, log=lambda line: None))
+    assert [str(d) for d in report.diagnostics] == []
+    viewer = 'src="assets/replay/replay.js" defer></script>'
+    for name in ("talk.html", "talk.slides.html"):
+        html = (out / name).read_text(encoding="utf-8")
+        assert html.count('class="clip clip-replay"') == 2 and html.count(viewer) == 1, name
+
+
+def test_replay_only_clips_render_on_every_worker_asked_for(tmp_path, monkeypatch):
+    """A replay draws no frames, so the pool was sized by frames to draw: one worker, and a site
+    of replays built one clip after another on a 2-core machine (33 s instead of 18 s)."""
+    from sims import clip_schedule
+
+    sizes: list[int] = []
+    real = clip_schedule.make_pool
+
+    def recorded(workers, log_dir):
+        sizes.append(workers)
+        return real(workers, log_dir)
+
+    monkeypatch.setattr(clip_schedule, "make_pool", recorded)
+    specs = [
+        ClipSpec(n, "cart-reverse", seconds=0.5, seed=i, formats=("replay",))
+        for i, n in enumerate("ab")
+    ]
+    results = render_clips(specs, tmp_path, jobs=2)
+    assert all(r.ok for r in results) and sizes == [2]
