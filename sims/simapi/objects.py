@@ -7,29 +7,15 @@ from __future__ import annotations
 from typing import Any
 
 from sims.remote_api import commands as cmd
+from sims.remote_api.object_commands import OBJECT_TYPES
 from sims.scene import paths
 
 from .context import Caller, SimError
 from .values import flag, integer, numbers, options, table, text
 
 HANDLE_ALL, HANDLE_SCENE = -2, -12
-#: sim.getObjectType numbers by the tree entries' kind
-KIND_TYPES = {
-    "shape": 0,
-    "joint": 1,
-    "graph": 2,
-    "camera": 3,
-    "dummy": 4,
-    "proximity_sensor": 5,
-    "path": 8,
-    "vision_sensor": 9,
-    "mill": 11,
-    "force_sensor": 12,
-    "light": 13,
-    "mirror": 14,
-    "octree": 15,
-    "point_cloud": 16,
-}
+#: sim.getObjectType numbers by the tree entries' kind (the legacy API's table)
+KIND_TYPES = OBJECT_TYPES
 #: sim.primitiveshape_* (4.x) / sim.pure_primitive_* (3.x) numbers
 PRIMITIVES = {
     1: "plane",
