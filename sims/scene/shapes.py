@@ -15,17 +15,14 @@ but is still hit by ray tests, so proximity sensors see it as CoppeliaSim's do.
 
 from __future__ import annotations
 
-import hashlib
 import math
-import os
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from sims.quiet import pybullet as p
 from sims.scene import convex_parts
+from sims.scene.content_files import content_file
 from sims.scene.model import Mesh, Pose
 from sims.scene.textures import quaternion_matrix, texture_coordinates
 
@@ -149,15 +146,7 @@ def mesh_file(points: list, triangles: list, uvs: np.ndarray | None = None) -> s
             f"{triangles[i + 2] + 1}/{i + 3}\n"
             for i in range(0, len(triangles) - 2, 3)
         )
-    digest = hashlib.sha256(text.encode()).hexdigest()[:32]
-    folder = Path(tempfile.gettempdir()) / "sitegen-scene-meshes"
-    target = folder / f"{digest}.obj"
-    if not target.is_file():
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("w", dir=folder, suffix=".tmp", delete=False) as f:
-            f.write(text)
-        os.replace(f.name, target)
-    return str(target)
+    return content_file("sitegen-scene-meshes", ".obj", text.encode())
 
 
 def textured_mesh(part: Part) -> str | None:

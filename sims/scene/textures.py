@@ -22,14 +22,11 @@ pybullet's renderers can load it. Reading is bounded by :mod:`sims.scene.limits`
 
 from __future__ import annotations
 
-import hashlib
 import math
-import os
-import tempfile
-from pathlib import Path
 
 import numpy as np
 
+from sims.scene.content_files import content_file
 from sims.scene.limits import TextureBudget
 from sims.scene.model import Pose, TextureImage, TextureMapping
 from sims.scene.ttt_chunks import Chunk, ChunkError, Fields, bit, chunk_list
@@ -190,16 +187,7 @@ def texture_file(image: TextureImage, pad_u: bool = False, pad_v: bool = False) 
     ok, encoded = cv2.imencode(".png", bgr)
     if not ok:
         raise ValueError(f"texture {image.name!r} could not be encoded")
-    data = encoded.tobytes()
-    digest = hashlib.sha256(data).hexdigest()[:32]
-    folder = Path(tempfile.gettempdir()) / "sitegen-scene-textures"
-    target = folder / f"{digest}.png"
-    if not target.is_file():
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("wb", dir=folder, suffix=".tmp", delete=False) as f:
-            f.write(data)
-        os.replace(f.name, target)
-    return str(target)
+    return content_file("sitegen-scene-textures", ".png", encoded.tobytes())
 
 
 def attach_images(objects: list, images: dict[int, TextureImage]) -> list[str]:

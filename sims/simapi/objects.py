@@ -530,7 +530,7 @@ def _scene_file(c: Caller, name: str, kinds: tuple[str, ...]) -> str:
     base = folders[0]
     path = (base / name).resolve()
     if not any(path.is_relative_to(f) for f in folders):
-        raise SimError(f"{name!r}: only files beside the scene file can be loaded") from None
+        raise SimError(f"{name!r}: only files beside the scene file can be loaded")
     if not path.is_file() and path.suffix in (".ttt", ".ttm"):
         xml = path.with_suffix(".simscene.xml" if path.suffix == ".ttt" else ".simmodel.xml")
         path = xml if xml.is_file() else path

@@ -25,20 +25,15 @@ import numbers
 import threading
 from typing import Any, NoReturn
 
+from sims.simapi.ik import CONSTANTS as IK_CONSTANTS
+
 from ..client import Session, script_site
 from . import paths
 from .constants import CONSTANTS
 from .registry import NOT_EMULATED
 
-
-def _ik_constants() -> dict[str, Any]:
-    from sims.simapi.ik import CONSTANTS as IK
-
-    return IK
-
-
 #: The modules a client may ``require``: their constants (functions: the table's, by prefix).
-MODULES = {"sim": lambda: CONSTANTS, "simIK": _ik_constants}
+MODULES: dict[str, dict[str, Any]] = {"sim": CONSTANTS, "simIK": IK_CONSTANTS}
 
 #: Functions that look an object up by name or path (a success counts in Session.found_objects).
 LOOKUPS = frozenset({"sim.getObject", "sim.getObjectHandle"})
@@ -266,7 +261,7 @@ class ZmqServer:
         """``zmqRemoteApi.info``: the module's functions and constants, as the client expects."""
         if name not in MODULES:
             return {}
-        out: dict[str, Any] = {k: {"const": v} for k, v in MODULES[name]().items()}
+        out: dict[str, Any] = {k: {"const": v} for k, v in MODULES[name].items()}
         # functions not emulated are listed too: calling one answers "not emulated" (an
         # error naming it) instead of the client's AttributeError
         prefix = name + "."
